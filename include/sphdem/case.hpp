@@ -1,0 +1,106 @@
+#pragma once
+// The validated contents of a case file (docs/case-file.md), SI units.
+// Produced by config/ (load_case), consumed by geometry/ and solver/.
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sphdem {
+
+using Vec3a = std::array<double, 3>;  // D components used, the rest are 0
+
+// A 2D polygon or a box (2D or 3D). `key` and `line` say where it was
+// defined so that later checks (e.g. "fill region outside the mold") can
+// still point at the case file.
+struct Shape {
+  enum class Type { Polygon, Box };
+  Type type = Type::Box;
+  std::vector<std::array<double, 2>> vertices;  // Polygon, counter- or clockwise
+  Vec3a lo{}, hi{};                             // Box
+  std::string key;
+  int line = 0;
+};
+
+struct Resin {
+  double density = 0;    // rho0 [kg/m^3]
+  double viscosity = 0;  // mu [Pa s]
+  double sound_speed = 0;  // c0 [m/s], given or from mach * reference_velocity
+  double gamma = 7.0;      // Tait exponent
+};
+
+enum class ViscosityModel { Morris, None };
+
+struct Numerics {
+  double spacing = 0;          // dp [m]
+  double h_over_spacing = 1.2;
+  double cfl = 0.25;           // dt <= cfl h / (c0 + |v|max)
+  double force_factor = 0.25;  // dt <= force_factor sqrt(h/|a|max)
+  double viscous_factor = 0.125;  // dt <= viscous_factor h^2 rho0/mu
+  std::optional<double> fixed_dt;
+  double end_time = 0;
+  ViscosityModel viscosity_model = ViscosityModel::Morris;
+  double artificial_viscosity = 0.0;  // Monaghan alpha
+  double delta_sph = 0.0;             // Molteni-Colagrossi delta, 0 = off
+  bool anti_clump = true;             // Monaghan (2000) tensile-instability term
+  double anti_clump_epsilon = 0.2;
+  int anti_clump_exponent = 4;
+  double neighbor_skin = 0.1;         // Verlet skin as a fraction of the support 2h
+};
+
+struct Mold {
+  std::vector<Shape> shapes;  // the cavity is their union
+  int wall_layers = 3;
+};
+
+// Piecewise-linear velocity table; constant before the first and after the
+// last row.
+struct VelocityTable {
+  std::vector<double> time;
+  std::vector<Vec3a> velocity;
+};
+
+struct MovingWall {
+  std::string name;
+  Shape region;  // wall particles inside it belong to this wall
+  VelocityTable velocity;
+  std::optional<double> pressure_limit;  // [Pa], V/P switchover
+  double pressure_relax_time = 1e-3;     // [s], how fast the controller reacts
+  int line = 0;
+};
+
+struct SlidingWall {
+  std::string name;
+  Shape region;
+  Vec3a velocity{};  // tangential surface velocity [m/s]; the particles stay put
+  int line = 0;
+};
+
+struct Output {
+  std::string directory;            // default: out/<name>
+  std::optional<double> every_time;  // [s] of simulated time
+  std::optional<int> every_steps;
+  std::vector<std::string> fields{"velocity", "density", "pressure"};
+  int progress_every = 100;
+};
+
+struct Case {
+  std::string name;
+  std::string source_file;
+  std::string source_text;  // the case file as read, stored with the output
+  int dimension = 2;
+  Resin resin;
+  Numerics numerics;
+  Mold mold;
+  std::vector<Shape> fill;
+  std::vector<MovingWall> moving_walls;
+  std::vector<SlidingWall> sliding_walls;
+  Vec3a body_force{};  // [m/s^2]
+  std::array<bool, 3> periodic{false, false, false};
+  std::optional<Vec3a> domain_lo, domain_hi;  // default: mold bbox + wall layers
+  Output output;
+
+  double h() const { return numerics.h_over_spacing * numerics.spacing; }
+};
+
+}  // namespace sphdem

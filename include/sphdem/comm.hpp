@@ -1,0 +1,33 @@
+#pragma once
+// The only door to MPI for the rest of the code (parallel/ and io/ use
+// raw()). Physics modules never include this header.
+#include <mpi.h>
+
+#include <cstdint>
+
+namespace sphdem {
+
+class Comm {
+ public:
+  explicit Comm(MPI_Comm comm = MPI_COMM_WORLD);
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  bool root() const { return rank_ == 0; }
+  MPI_Comm raw() const { return comm_; }
+
+  double max(double v) const;
+  double min(double v) const;
+  double sum(double v) const;
+  std::int64_t sum(std::int64_t v) const;
+  std::int64_t max(std::int64_t v) const;
+  std::int64_t min(std::int64_t v) const;
+  bool any(bool v) const;
+  void barrier() const;
+
+ private:
+  MPI_Comm comm_;
+  int rank_ = 0;
+  int size_ = 1;
+};
+
+}  // namespace sphdem
