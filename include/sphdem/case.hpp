@@ -40,6 +40,10 @@ struct Numerics {
   std::optional<double> fixed_dt;
   double end_time = 0;
   ViscosityModel viscosity_model = ViscosityModel::Morris;
+  // Scale the laminar viscosity by D / M, M being the discrete second moment
+  // of the kernel gradient on the initial lattice (sph/time_step.cpp), so the
+  // discrete Laplacian is exact for quadratic profiles on that lattice.
+  bool viscosity_lattice_correction = true;
   double artificial_viscosity = 0.0;  // Monaghan alpha
   double delta_sph = 0.0;             // Molteni-Colagrossi delta, 0 = off
   bool anti_clump = true;             // Monaghan (2000) tensile-instability term
@@ -99,6 +103,9 @@ struct Case {
   std::array<bool, 3> periodic{false, false, false};
   std::optional<Vec3a> domain_lo, domain_hi;  // default: mold bbox + wall layers
   Output output;
+  // Remarks that do not stop a run (e.g. a Mach number above 0.1), for
+  // `sphdem check` and the run log.
+  std::vector<std::string> warnings;
 
   double h() const { return numerics.h_over_spacing * numerics.spacing; }
 };

@@ -10,8 +10,10 @@
 //   /<set>/position double [N][3]   (z = 0 in 2D, so ParaView sees XYZ)
 //   /<set>/<field> double [N] or [N][3] (vectors padded to 3), attribute "units"
 // Rows are ordered by global id within each set, whatever the rank count.
+#include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sphdem/comm.hpp"
@@ -19,15 +21,15 @@
 namespace sphdem {
 
 struct FieldView {
-  std::string name;   // dataset name, e.g. "velocity"
-  std::string units;  // e.g. "m/s"
-  int components = 1;  // 1 (scalar) or D (vector, padded to 3 in the file)
+  std::string name;              // dataset name, e.g. "velocity"
+  std::string units;             // e.g. "m/s"
+  int components = 1;            // 1 (scalar) or D (vector, padded to 3 in the file)
   const double* data = nullptr;  // n_local * components values, row-major
 };
 
 struct ParticleSetView {
-  std::string name;          // "fluid", "wall", ...
-  std::size_t n_local = 0;   // this rank's owned particles
+  std::string name;                  // "fluid", "wall", ...
+  std::size_t n_local = 0;           // this rank's owned particles
   const std::int64_t* id = nullptr;  // global ids; within a set they form a dense
                                      // range [min, min + N) over all ranks
   int dimension = 2;
@@ -37,28 +39,40 @@ struct ParticleSetView {
 
 class SnapshotWriter {
  public:
-  // Creates `directory` if needed. `xdmf_name` is the XDMF file's name
-  // inside it (e.g. "plate.xdmf").
+  // Creates `directory` if needed (rank 0; every rank throws on failure).
+  // The XDMF index is <directory>/<case_name>.xdmf. The communicator is
+  // copied, so the writer may outlive `comm`, not the MPI_Comm behind it.
   SnapshotWriter(const Comm& comm, std::string directory, std::string case_name);
 
   // Collective. Writes the HDF5 file to a temporary name, closes it and
   // renames it (complete or absent), then rewrites the XDMF (also atomically)
-  // with this snapshot appended. Returns the HDF5 file path.
+  // with this snapshot appended (or replacing an earlier one of the same
+  // step). Returns the HDF5 file path. Every rank passes the same sets, in
+  // the same order, with the same fields. Throws std::invalid_argument for
+  // malformed views and std::runtime_error when a set's ids are not a dense
+  // range or the file system / HDF5 fails; in both cases on every rank.
   std::string write(std::int64_t step, double time, const std::vector<ParticleSetView>& sets);
 
   const std::string& xdmf_path() const { return xdmf_path_; }
 
  private:
-  struct Entry {
-    std::int64_t step;
-    double time;
-    std::string file;  // relative to the directory
-    std::vector<std::pair<std::string, std::int64_t>> sets;  // name, count
-    std::vector<std::vector<std::pair<std::string, int>>> fields;  // per set: name, components
+  struct SetEntry {
+    std::string name;
+    std::int64_t count = 0;
+    std::vector<std::pair<std::string, int>> fields;  // name, columns in the file (1 or 3)
   };
-  void write_xdmf() const;
+  struct Entry {
+    std::int64_t step = 0;
+    double time = 0.0;
+    std::string file;  // relative to the directory
+    std::vector<SetEntry> sets;
+  };
+  Entry write_hdf5(const std::string& path, std::int64_t step, double time,
+                   const std::vector<ParticleSetView>& sets) const;
+  void write_xdmf(const std::vector<Entry>& entries) const;
+  static std::string xdmf_text(const std::string& title, const std::vector<Entry>& entries);
 
-  const Comm& comm_;
+  Comm comm_;
   std::string directory_;
   std::string case_name_;
   std::string xdmf_path_;

@@ -1,0 +1,83 @@
+#pragma once
+// Weakly compressible SPH for the resin (DESIGN 2.1). Each physics term
+// lives in its own header under src/sph/terms/; the loops that visit the
+// neighbor lists are here (fluid_rates.cpp, wall_boundary.cpp). Nothing in
+// this module knows about ranks: it reads ghosts and writes owned particles.
+#include <vector>
+
+#include "sphdem/case.hpp"
+#include "sphdem/eos.hpp"
+#include "sphdem/kernel.hpp"
+#include "sphdem/neighbor.hpp"
+#include "sphdem/particles.hpp"
+
+namespace sphdem {
+
+struct SphParams {
+  double h = 0;
+  double spacing = 0;
+  double rho0 = 0, c0 = 0, gamma = 7;
+  double mu = 0;             // laminar viscosity (0: none)
+  double mu_scale = 1;       // lattice correction of the viscous Laplacian
+  double alpha = 0;          // Monaghan artificial viscosity
+  double delta = 0;          // delta-SPH coefficient (0: off)
+  bool anti_clump = true;
+  double anti_clump_eps = 0.2;
+  int anti_clump_n = 4;
+  double eta2 = 0;           // 0.01 h^2, keeps 1/r^2 terms finite
+  Vec3a body_force{};
+};
+
+SphParams make_sph_params(const Case& c);
+
+// D / M with M = -sum_j V_j F(r_j) r_j^2 r_j^2/(r_j^2 + eta^2) over a
+// Cartesian lattice of pitch 1 around a particle: the factor by which the
+// Morris operator underestimates the Laplacian of a quadratic field on the
+// lattice (1.049 at h/dp = 1.2 in 2D). Tends to 1 as h/dp grows.
+double viscous_lattice_correction(int dimension, double h_over_spacing);
+
+// Pressure of every fluid particle, ghosts included, from its density.
+template <int D>
+void compute_fluid_pressure(const TaitEos& eos, SphParticles<D>& ps);
+
+// Per-wall sums of the extrapolated face pressure (walls that touch resin).
+struct WallPressure {
+  double sum = 0;
+  double count = 0;
+};
+
+// Dummy-particle walls (Adami, Hu & Adams 2012): every owned wall particle
+// takes pressure, density and a no-slip velocity from its resin neighbors.
+// wall_accel[k] is the acceleration of moving wall k. Returns the face
+// pressure sums per wall (indexed like wall_accel).
+template <int D>
+std::vector<WallPressure> compute_wall_state(const SphParams& sp, const TaitEos& eos,
+                                             const NeighborList<D>& nl,
+                                             const std::vector<Vec<D>>& wall_accel,
+                                             SphParticles<D>& ps);
+
+// Continuity (paper Eq. 3, + optional delta-SPH) and momentum (paper Eq. 5
+// with the sign corrected: pressure, artificial viscosity, anti-clump,
+// laminar viscosity, body force) for every owned resin particle.
+template <int D>
+void compute_fluid_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps);
+
+// Largest speed (resin and walls) and resin acceleration over owned particles.
+struct LocalExtremes {
+  double v_max = 0;
+  double a_max = 0;
+};
+template <int D>
+LocalExtremes local_extremes(const SphParticles<D>& ps);
+
+// Adaptive time step (DESIGN 2.1): the smallest of the CFL, force and
+// viscous limits, and which one binds.
+enum class DtLimit { Cfl, Force, Viscous, Fixed };
+const char* to_string(DtLimit l);
+struct TimeStep {
+  double dt = 0;
+  DtLimit limit = DtLimit::Cfl;
+};
+TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max, double a_max);
+
+}  // namespace sphdem

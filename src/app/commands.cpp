@@ -1,0 +1,117 @@
+#include "commands.hpp"
+
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <fmt/format.h>
+#include <iostream>
+
+#include "sphdem/comm.hpp"
+#include "sphdem/config.hpp"
+#include "sphdem/errors.hpp"
+#include "sphdem/solver.hpp"
+
+namespace sphdem::app {
+
+namespace {
+
+struct RunArgs {
+  std::string case_file;
+  std::string output_dir;
+  std::int64_t steps = -1;
+  std::vector<std::string> sets;
+  bool quiet = false;
+};
+
+// Measured one-rank resin throughput (docs/performance.md), used only for
+// the run-time estimate of `sphdem check`.
+constexpr double kParticleStepsPerSecond = 5e6;
+
+template <int D>
+int run_case(const Case& c, const RunArgs& a, const Comm& comm) {
+  RunOptions opt;
+  opt.output_dir = a.output_dir;
+  if (a.steps >= 0) opt.max_steps = a.steps;
+  opt.log = a.quiet ? nullptr : &std::cout;
+  Simulation<D> sim(c, comm, opt);
+  if (comm.root() && !a.quiet) {
+    std::cout << fmt::format("sphdem {}: case '{}' ({}D), {} resin + {} wall particles, {} rank(s)\n",
+                             SPHDEM_VERSION, c.name, D, sim.global_fluid_count(),
+                             sim.global_wall_count(), comm.size());
+  }
+  const RunSummary s = sim.run();
+  if (comm.root() && !a.quiet) {
+    std::cout << fmt::format("done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s), "
+                             "{} snapshots in {}\n",
+                             s.steps, s.time, s.wall_seconds, s.particle_steps_per_second,
+                             s.snapshots, opt.output_dir.empty() ? c.output.directory : opt.output_dir);
+  }
+  return 0;
+}
+
+template <int D>
+int check_case(const Case& c, const Comm& comm) {
+  RunOptions opt;
+  opt.write_output = false;
+  Simulation<D> sim(c, comm, opt);
+  if (!comm.root()) return 0;
+  const SphParams sp = make_sph_params(c);
+  // A run's speed is bounded by Mach 0.1 (c0 >= 10 |v|max): estimate with it.
+  const double v_est = 0.1 * sp.c0;
+  const TimeStep ts = choose_time_step(c.numerics, sp, v_est, 0.0);
+  const double steps = std::ceil(c.numerics.end_time / ts.dt);
+  const double n = static_cast<double>(sim.global_fluid_count() + sim.global_wall_count());
+  const double bytes = n * (D * 8.0 * 7 + 8.0 * 8 + 4.0 * (D == 2 ? 30 : 80));
+  const double seconds = static_cast<double>(sim.global_fluid_count()) * steps / kParticleStepsPerSecond;
+  std::cout << fmt::format(
+      "case '{}' ({}D) is valid\n"
+      "  particles: {} resin, {} wall\n"
+      "  spacing {:.4g} m, h {:.4g} m, c0 {:.4g} m/s\n"
+      "  time step: {:.4g} s, limited by {} (at |v| = 0.1 c0)\n"
+      "  steps to end_time {:.4g} s: about {:.0f}\n"
+      "  memory: about {:.1f} MiB\n"
+      "  run time: about {:.0f} s on one core (at {:.1g} particle-steps/s)\n",
+      c.name, D, sim.global_fluid_count(), sim.global_wall_count(), c.numerics.spacing, sp.h,
+      sp.c0, ts.dt, to_string(ts.limit), c.numerics.end_time, steps, bytes / (1024.0 * 1024.0),
+      seconds, kParticleStepsPerSecond);
+  return 0;
+}
+
+}  // namespace
+
+int dispatch(int argc, char** argv) {
+  const Comm comm;
+  CLI::App app{"sphdem: SPH-DEM simulator of injection molding of short-fiber composites"};
+  app.set_version_flag("--version", std::string(SPHDEM_VERSION));
+  app.require_subcommand(1);
+
+  RunArgs run;
+  CLI::App* run_cmd = app.add_subcommand("run", "Run a case (mpirun -n N sphdem run case.yaml)");
+  run_cmd->add_option("case", run.case_file, "Case file (YAML), see docs/case-file.md")->required();
+  run_cmd->add_option("-o,--output", run.output_dir, "Output directory (default: output.directory)");
+  run_cmd->add_option("--steps", run.steps, "Stop when the step counter reaches N");
+  run_cmd->add_option("--set", run.sets, "Override a case key: --set numerics.spacing=1e-3")
+      ->allow_extra_args(false);
+  run_cmd->add_flag("-q,--quiet", run.quiet, "No progress lines");
+
+  RunArgs check;
+  CLI::App* check_cmd =
+      app.add_subcommand("check", "Validate a case and print counts, time step and estimates");
+  check_cmd->add_option("case", check.case_file, "Case file (YAML)")->required();
+  check_cmd->add_option("--set", check.sets, "Override a case key")->allow_extra_args(false);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    std::ostream null_stream(nullptr);  // ranks other than 0 stay silent
+    const int code = app.exit(e, comm.root() ? std::cout : null_stream,
+                              comm.root() ? std::cerr : null_stream);
+    return code == 0 ? 0 : 2;
+  }
+
+  const RunArgs& a = run_cmd->parsed() ? run : check;
+  const Case c = load_case(a.case_file, a.sets);
+  if (run_cmd->parsed()) return c.dimension == 2 ? run_case<2>(c, a, comm) : run_case<3>(c, a, comm);
+  return c.dimension == 2 ? check_case<2>(c, comm) : check_case<3>(c, comm);
+}
+
+}  // namespace sphdem::app

@@ -1,0 +1,56 @@
+#include "hdf5_helpers.hpp"
+
+#include <stdexcept>
+
+namespace sphdem::h5 {
+
+namespace {
+// H5Ewalk2 callback: keeps the first (innermost) description, which is the
+// specific cause ("unable to open file ... errno = 13") rather than the
+// generic API-level message.
+herr_t keep_innermost(unsigned n, const H5E_error2_t* err, void* out) {
+  if (n == 0 && err != nullptr && err->desc != nullptr) *static_cast<std::string*>(out) = err->desc;
+  return 0;
+}
+
+void write_scalar(hid_t obj, const char* name, hid_t file_type, hid_t mem_type, const void* value,
+                  const std::string& path) {
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "create attribute space", path);
+  Handle attr(H5Acreate2(obj, name, file_type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+              "create attribute", path);
+  check(H5Awrite(attr.get(), mem_type, value), "write attribute", path);
+}
+}  // namespace
+
+void fail(const std::string& what, const std::string& path) {
+  std::string detail;
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, keep_innermost, &detail);
+  std::string msg = "sphdem: HDF5 " + what + " failed for '" + path + "'";
+  if (!detail.empty()) msg += ": " + detail;
+  throw std::runtime_error(msg);
+}
+
+void write_attribute(hid_t obj, const char* name, double value, const std::string& path) {
+  write_scalar(obj, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &value, path);
+}
+
+void write_attribute(hid_t obj, const char* name, std::int64_t value, const std::string& path) {
+  write_scalar(obj, name, H5T_STD_I64LE, H5T_NATIVE_INT64, &value, path);
+}
+
+void write_attribute(hid_t obj, const char* name, int value, const std::string& path) {
+  write_scalar(obj, name, H5T_STD_I32LE, H5T_NATIVE_INT, &value, path);
+}
+
+void write_attribute(hid_t obj, const char* name, const std::string& value,
+                     const std::string& path) {
+  // Fixed-length, NUL-terminated UTF-8: readable by h5py, h5dump and ParaView
+  // without variable-length memory management.
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "copy string type", path);
+  check(H5Tset_size(type.get(), value.size() + 1), "set string size", path);
+  check(H5Tset_strpad(type.get(), H5T_STR_NULLTERM), "set string padding", path);
+  check(H5Tset_cset(type.get(), H5T_CSET_UTF8), "set string charset", path);
+  write_scalar(obj, name, type.get(), type.get(), value.c_str(), path);
+}
+
+}  // namespace sphdem::h5

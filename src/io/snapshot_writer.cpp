@@ -1,0 +1,303 @@
+// SnapshotWriter: the collective HDF5 part and the atomic publication.
+// The XDMF text lives in xdmf.cpp.
+#include <fmt/format.h>
+#include <hdf5.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <limits>
+#include <numeric>
+#include <set>
+#include <stdexcept>
+
+#include "hdf5_helpers.hpp"
+#include "sphdem/io.hpp"
+
+namespace sphdem {
+
+namespace {
+
+namespace fs = std::filesystem;
+using h5::check;
+using h5::Handle;
+
+// Where this rank's particles go in the file: rows are id - id_min, so the
+// file is ordered by global id whatever the decomposition.
+struct RowPlan {
+  std::int64_t n_global = 0;
+  std::vector<std::size_t> order;                 // local indices, sorted by id
+  std::vector<std::pair<hsize_t, hsize_t>> runs;  // first row, row count
+};
+
+// Every rank throws the same exception type when any rank failed; ranks
+// that failed report their own message, the others `elsewhere`.
+template <class Error>
+void throw_if_any(const Comm& comm, const std::string& error, const std::string& elsewhere) {
+  if (comm.any(!error.empty())) throw Error(error.empty() ? elsewhere : error);
+}
+
+bool bad_name(const std::string& name) {
+  return name.empty() || name == "." || name.find('/') != std::string::npos;
+}
+
+std::string check_field(const ParticleSetView& set, const FieldView& f) {
+  const std::string where = "sphdem: set '" + set.name + "' field '" + f.name + "': ";
+  if (bad_name(f.name) || f.name == "id" || f.name == "position")
+    return where + "invalid dataset name";
+  if (f.components != 1 && f.components != set.dimension)
+    return where + "components must be 1 or the dimension";
+  if (set.n_local > 0 && f.data == nullptr) return where + "no data";
+  return {};
+}
+
+std::string check_set(const ParticleSetView& set, int dimension) {
+  const std::string where = "sphdem: set '" + set.name + "': ";
+  if (bad_name(set.name)) return where + "invalid group name";
+  if (set.dimension != dimension) return where + "dimension differs from the first set's";
+  if (dimension != 2 && dimension != 3) return where + "dimension must be 2 or 3";
+  if (set.n_local > 0 && (set.id == nullptr || set.position == nullptr))
+    return where + "no ids or positions";
+  std::set<std::string> names;
+  for (const auto& f : set.fields) {
+    if (!names.insert(f.name).second) return where + "field '" + f.name + "' appears twice";
+    if (auto problem = check_field(set, f); !problem.empty()) return problem;
+  }
+  return {};
+}
+
+// Collective, so a malformed view on one rank cannot leave the others
+// waiting inside HDF5.
+void check_views(const Comm& comm, const std::vector<ParticleSetView>& sets) {
+  std::string problem;
+  if (sets.empty()) problem = "sphdem: snapshot has no particle sets";
+  std::set<std::string> names;
+  for (const auto& set : sets) {
+    if (!problem.empty()) break;
+    if (!names.insert(set.name).second) problem = "sphdem: set '" + set.name + "' appears twice";
+    if (problem.empty()) problem = check_set(set, sets.front().dimension);
+  }
+  throw_if_any<std::invalid_argument>(comm, problem,
+                                      "sphdem: invalid particle set on another rank");
+}
+
+std::vector<std::pair<hsize_t, hsize_t>> coalesce(const ParticleSetView& set,
+                                                  const std::vector<std::size_t>& order,
+                                                  std::int64_t id_min) {
+  std::vector<std::pair<hsize_t, hsize_t>> runs;
+  for (std::size_t i : order) {
+    const auto row = static_cast<hsize_t>(set.id[i] - id_min);
+    if (!runs.empty() && runs.back().first + runs.back().second == row)
+      ++runs.back().second;
+    else
+      runs.emplace_back(row, 1);
+  }
+  return runs;
+}
+
+RowPlan plan_rows(const Comm& comm, const ParticleSetView& set) {
+  RowPlan plan;
+  plan.order.resize(set.n_local);
+  std::iota(plan.order.begin(), plan.order.end(), std::size_t{0});
+  std::sort(plan.order.begin(), plan.order.end(),
+            [&](std::size_t a, std::size_t b) { return set.id[a] < set.id[b]; });
+  const auto same_id = [&](std::size_t a, std::size_t b) { return set.id[a] == set.id[b]; };
+  const bool duplicate =
+      std::adjacent_find(plan.order.begin(), plan.order.end(), same_id) != plan.order.end();
+  std::int64_t lo = std::numeric_limits<std::int64_t>::max();
+  std::int64_t hi = std::numeric_limits<std::int64_t>::min();
+  if (set.n_local > 0) {
+    lo = set.id[plan.order.front()];
+    hi = set.id[plan.order.back()];
+  }
+  plan.n_global = comm.sum(static_cast<std::int64_t>(set.n_local));
+  const std::int64_t id_min = comm.min(lo);
+  const std::int64_t id_max = comm.max(hi);
+  // Cross-rank duplicates are caught only when they leave a gap; the view
+  // promises a dense range, this catches the common ways of breaking it.
+  if (comm.any(duplicate) || (plan.n_global > 0 && id_max - id_min + 1 != plan.n_global))
+    throw std::runtime_error(fmt::format(
+        "sphdem: set '{}': ids are not a dense range of unique values (N = {}, min = {}, max = {})",
+        set.name, plan.n_global, id_min, id_max));
+  plan.runs = coalesce(set, plan.order, id_min);
+  return plan;
+}
+
+// `cols` values per particle in id order, zero-padded to `out_cols`.
+template <class T>
+std::vector<T> pack(const RowPlan& plan, const T* src, int cols, int out_cols) {
+  std::vector<T> out(plan.order.size() * static_cast<std::size_t>(out_cols), T{});
+  T* dst = out.data();
+  for (std::size_t i : plan.order) {
+    std::copy_n(src + i * static_cast<std::size_t>(cols), cols, dst);
+    dst += out_cols;
+  }
+  return out;
+}
+
+void select_rows(hid_t space, const RowPlan& plan, hsize_t cols, const std::string& path) {
+  if (plan.runs.empty()) {
+    check(H5Sselect_none(space), "select no rows", path);
+    return;
+  }
+  H5S_seloper_t op = H5S_SELECT_SET;
+  for (const auto& [row, count] : plan.runs) {
+    const hsize_t start[2] = {row, 0};
+    const hsize_t extent[2] = {count, cols};
+    check(H5Sselect_hyperslab(space, op, start, nullptr, extent, nullptr), "select rows", path);
+    op = H5S_SELECT_OR;
+  }
+}
+
+struct Target {
+  hid_t group;
+  hid_t dxpl;
+  const std::string& path;
+};
+
+struct Column {
+  const char* name;
+  const char* units;
+  int cols;  // 1 or 3 in the file
+  hid_t file_type;
+  hid_t mem_type;
+};
+
+Handle create_dataset(const Target& t, const Column& c, hsize_t n_global) {
+  const hsize_t dims[2] = {n_global, static_cast<hsize_t>(c.cols)};
+  Handle space(H5Screate_simple(c.cols == 1 ? 1 : 2, dims, nullptr), H5Sclose, "create file space",
+               t.path);
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "create dataset properties", t.path);
+  // Every row is written, so filling with zeros first would be wasted I/O.
+  check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), "set fill time", t.path);
+  Handle dset(
+      H5Dcreate2(t.group, c.name, c.file_type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+      H5Dclose, "create dataset", t.path);
+  h5::write_attribute(dset.get(), "units", std::string(c.units), t.path);
+  return dset;
+}
+
+template <class T>
+void write_column(const Target& t, const Column& c, const RowPlan& plan,
+                  const std::vector<T>& packed) {
+  Handle dset = create_dataset(t, c, static_cast<hsize_t>(plan.n_global));
+  if (plan.n_global == 0) return;  // every rank agrees: nothing to transfer
+  Handle fspace(H5Dget_space(dset.get()), H5Sclose, "get file space", t.path);
+  select_rows(fspace.get(), plan, static_cast<hsize_t>(c.cols), t.path);
+  const hsize_t mdims[2] = {plan.order.size(), static_cast<hsize_t>(c.cols)};
+  Handle mspace(H5Screate_simple(c.cols == 1 ? 1 : 2, mdims, nullptr), H5Sclose,
+                "create memory space", t.path);
+  if (plan.order.empty()) check(H5Sselect_none(mspace.get()), "select nothing", t.path);
+  const T none{};  // HDF5 wants a buffer even when this rank writes nothing
+  const T* buf = packed.empty() ? &none : packed.data();
+  check(H5Dwrite(dset.get(), c.mem_type, mspace.get(), fspace.get(), t.dxpl, buf), "write dataset",
+        t.path);
+}
+
+int file_columns(int components) {
+  return components == 1 ? 1 : 3;
+}
+
+void write_set(hid_t file, hid_t dxpl, const ParticleSetView& set, const RowPlan& plan,
+               const std::string& path) {
+  Handle group(H5Gcreate2(file, set.name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+               "create group", path);
+  h5::write_attribute(group.get(), "count", plan.n_global, path);
+  const Target t{group.get(), dxpl, path};
+  write_column(t, {"id", "1", 1, H5T_STD_I64LE, H5T_NATIVE_INT64}, plan, pack(plan, set.id, 1, 1));
+  write_column(t, {"position", "m", 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE}, plan,
+               pack(plan, set.position, set.dimension, 3));
+  for (const auto& f : set.fields) {
+    const int cols = file_columns(f.components);
+    write_column(t, {f.name.c_str(), f.units.c_str(), cols, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE},
+                 plan, pack(plan, f.data, f.components, cols));
+  }
+}
+
+std::string make_directory(const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) return "sphdem: cannot create output directory '" + dir + "': " + ec.message();
+  return {};
+}
+
+}  // namespace
+
+SnapshotWriter::SnapshotWriter(const Comm& comm, std::string directory, std::string case_name)
+    : comm_(comm),
+      directory_(std::move(directory)),
+      case_name_(std::move(case_name)),
+      xdmf_path_((fs::path(directory_) / (case_name_ + ".xdmf")).string()) {
+  if (bad_name(case_name_))
+    throw std::invalid_argument("sphdem: invalid case name '" + case_name_ + "'");
+  std::string error;
+  if (comm_.root()) error = make_directory(directory_);
+  throw_if_any<std::runtime_error>(
+      comm_, error, "sphdem: rank 0 cannot create output directory '" + directory_ + "'");
+}
+
+SnapshotWriter::Entry SnapshotWriter::write_hdf5(const std::string& path, std::int64_t step,
+                                                 double time,
+                                                 const std::vector<ParticleSetView>& sets) const {
+  // Validate everything before the file exists, so bad input leaves no trace.
+  check_views(comm_, sets);
+  std::vector<RowPlan> plans;
+  for (const auto& set : sets) plans.push_back(plan_rows(comm_, set));
+
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "create file access list", path);
+  check(H5Pset_fapl_mpio(fapl.get(), comm_.raw(), MPI_INFO_NULL), "select MPI-IO driver", path);
+  Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
+              "create file", path);
+  Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "create transfer list", path);
+  check(H5Pset_dxpl_mpio(dxpl.get(), H5FD_MPIO_COLLECTIVE), "select collective I/O", path);
+
+  h5::write_attribute(file.get(), "time", time, path);
+  h5::write_attribute(file.get(), "step", step, path);
+  h5::write_attribute(file.get(), "dimension", sets.front().dimension, path);
+  h5::write_attribute(file.get(), "case", case_name_, path);
+  h5::write_attribute(file.get(), "sphdem_version", std::string(SPHDEM_VERSION), path);
+
+  Entry entry{step, time, {}, {}};
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    write_set(file.get(), dxpl.get(), sets[s], plans[s], path);
+    SetEntry& e = entry.sets.emplace_back(SetEntry{sets[s].name, plans[s].n_global, {}});
+    for (const auto& f : sets[s].fields) e.fields.emplace_back(f.name, file_columns(f.components));
+  }
+  file.close("close file", path);
+  return entry;
+}
+
+std::string SnapshotWriter::write(std::int64_t step, double time,
+                                  const std::vector<ParticleSetView>& sets) {
+  const std::string name = fmt::format("{}_{:08d}.h5", case_name_, step);
+  const std::string final_path = (fs::path(directory_) / name).string();
+  const std::string tmp_path = (fs::path(directory_) / ("." + name + ".tmp")).string();
+  Entry entry = write_hdf5(tmp_path, step, time, sets);
+  entry.file = name;
+
+  // A rewrite of the same step replaces its entry rather than listing it twice.
+  std::vector<Entry> entries = entries_;
+  const auto same =
+      std::find_if(entries.begin(), entries.end(), [&](const Entry& e) { return e.step == step; });
+  if (same != entries.end())
+    *same = std::move(entry);
+  else
+    entries.push_back(std::move(entry));
+
+  std::string error;
+  if (comm_.root()) {
+    try {
+      fs::rename(tmp_path, final_path);
+      write_xdmf(entries);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  // The reduction is also the barrier: no rank returns before the HDF5 file
+  // and the XDMF naming it are in place.
+  throw_if_any<std::runtime_error>(comm_, error,
+                                   "sphdem: rank 0 could not publish '" + final_path + "'");
+  entries_ = std::move(entries);
+  return final_path;
+}
+
+}  // namespace sphdem

@@ -1,0 +1,113 @@
+// The XDMF index: a temporal collection of spatial collections, one Uniform
+// Polyvertex grid per particle set, every array a reference into the
+// snapshot's HDF5 file (relative name, so the directory can be moved).
+// Written by rank 0 only.
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string_view>
+
+#include "sphdem/io.hpp"
+
+namespace sphdem {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string escape(std::string_view s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+// `ref` is "<file>:/<set>/<dataset>"; cols is 1 or 3.
+std::string data_item(const std::string& ref, std::int64_t n, int cols, bool integer) {
+  const std::string dims = cols == 1 ? std::to_string(n) : fmt::format("{} {}", n, cols);
+  return fmt::format(
+      "            <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"8\" "
+      "Format=\"HDF\">{}</DataItem>\n",
+      dims, integer ? "Int" : "Float", escape(ref));
+}
+
+std::string attribute(const std::string& prefix, const std::string& name, std::int64_t n, int cols,
+                      bool integer) {
+  return fmt::format("          <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n",
+                     escape(name), cols == 1 ? "Scalar" : "Vector") +
+         data_item(prefix + name, n, cols, integer) + "          </Attribute>\n";
+}
+
+std::string uniform_grid(const std::string& file, const std::string& set, std::int64_t n,
+                         const std::vector<std::pair<std::string, int>>& fields) {
+  const std::string prefix = file + ":/" + set + "/";
+  std::string out = fmt::format("        <Grid Name=\"{}\" GridType=\"Uniform\">\n", escape(set));
+  out += fmt::format(
+      "          <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" "
+      "NodesPerElement=\"1\"/>\n",
+      n);
+  out += "          <Geometry GeometryType=\"XYZ\">\n";
+  out += data_item(prefix + "position", n, 3, false);
+  out += "          </Geometry>\n";
+  out += attribute(prefix, "id", n, 1, true);
+  for (const auto& [name, cols] : fields) out += attribute(prefix, name, n, cols, false);
+  return out + "        </Grid>\n";
+}
+
+}  // namespace
+
+std::string SnapshotWriter::xdmf_text(const std::string& title, const std::vector<Entry>& entries) {
+  std::string out =
+      "<?xml version=\"1.0\" ?>\n"
+      "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
+      "<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n"
+      "  <Domain>\n";
+  out += fmt::format("    <Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+                     escape(title));
+  for (const auto& e : entries) {
+    out += fmt::format(
+        "      <Grid Name=\"step_{:08d}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n",
+        e.step);
+    // 17 significant digits round-trip a double, so times match the HDF5 attribute.
+    out += fmt::format("        <Time Value=\"{:.17g}\"/>\n", e.time);
+    // Empty grids upset ParaView's readers; the set reappears when it has particles.
+    for (const auto& s : e.sets)
+      if (s.count > 0) out += uniform_grid(e.file, s.name, s.count, s.fields);
+    out += "      </Grid>\n";
+  }
+  return out + "    </Grid>\n  </Domain>\n</Xdmf>\n";
+}
+
+void SnapshotWriter::write_xdmf(const std::vector<Entry>& entries) const {
+  const std::string tmp = (fs::path(directory_) / ("." + case_name_ + ".xdmf.tmp")).string();
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << xdmf_text(case_name_, entries);
+    out.close();
+    if (!out) throw std::runtime_error("sphdem: cannot write '" + tmp + "'");
+  }
+  fs::rename(tmp, xdmf_path_);
+}
+
+}  // namespace sphdem

@@ -1,0 +1,250 @@
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <ostream>
+
+#include "sphdem/errors.hpp"
+#include "sphdem/geometry.hpp"
+#include "sphdem/io.hpp"
+#include "sphdem/solver.hpp"
+#include "snapshot_fields.hpp"
+
+namespace sphdem {
+
+namespace {
+template <int D>
+Vec<D> to_vec(const Vec3a& a) {
+  Vec<D> v;
+  for (int k = 0; k < D; ++k) v[k] = a[k];
+  return v;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+template <int D>
+Simulation<D>::Simulation(const Case& c, const Comm& comm, RunOptions opt)
+    : case_(c),
+      comm_(comm),
+      opt_(std::move(opt)),
+      sp_(make_sph_params(c)),
+      eos_(c.resin.density, c.resin.sound_speed, c.resin.gamma),
+      domain_(simulation_domain<D>(c)),
+      nl_(2.0 * c.h(), c.numerics.neighbor_skin * 2.0 * c.h()),
+      walls_(make_wall_motions(c)) {
+  if (comm_.size() > 1) {
+    throw InputError(c.source_file, 0, "",
+                     "this build runs on one rank only: the METIS decomposition is not "
+                     "implemented yet (run with mpirun -n 1)");
+  }
+  const InitialCounts counts = build_initial_particles<D>(c, ps_);
+  n_fluid_global_ = static_cast<std::int64_t>(counts.fluid);
+  n_wall_global_ = static_cast<std::int64_t>(counts.wall);
+  if (opt_.output_dir.empty()) opt_.output_dir = c.output.directory;
+  set_wall_velocities(0.0);
+  rebuild_neighbors();
+  compute_rates();
+}
+
+template <int D>
+Simulation<D>::~Simulation() = default;
+
+template <int D>
+void Simulation<D>::set_wall_velocities(double t) {
+  std::vector<Vec<D>> v(walls_.size());
+  for (std::size_t k = 0; k < walls_.size(); ++k) v[k] = to_vec<D>(walls_[k].velocity(t));
+  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
+    if (ps_.kind[i] != Kind::Wall) continue;
+    const std::int32_t k = ps_.wall[i];
+    ps_.v[i] = k >= 0 ? v[static_cast<std::size_t>(k)] : Vec<D>::Zero();
+  }
+}
+
+template <int D>
+void Simulation<D>::rebuild_neighbors() {
+  sort_by_cell<D>(ps_, nl_.cutoff());
+  halo_.build(ps_, domain_, case_.periodic, nl_.cutoff());
+  nl_.build(ps_);
+  check_health();
+}
+
+template <int D>
+void Simulation<D>::compute_rates() {
+  halo_.update_state(ps_);
+  compute_fluid_pressure<D>(eos_, ps_);
+  std::vector<Vec<D>> accel(walls_.size());
+  for (std::size_t k = 0; k < walls_.size(); ++k) accel[k] = to_vec<D>(walls_[k].acceleration(time_));
+  const std::vector<WallPressure> face = compute_wall_state<D>(sp_, eos_, nl_, accel, ps_);
+  std::vector<double> mean(face.size());
+  for (std::size_t k = 0; k < face.size(); ++k) {
+    const double count = comm_.sum(face[k].count);
+    mean[k] = count > 0 ? comm_.sum(face[k].sum) / count : std::nan("");
+  }
+  update_wall_controllers(walls_, mean, dt_.dt);
+  halo_.update_wall_state(ps_);
+  compute_fluid_rates<D>(sp_, nl_, ps_);
+}
+
+template <int D>
+void Simulation<D>::do_step() {
+  const LocalExtremes ex = local_extremes<D>(ps_);
+  const double v_max = comm_.max(ex.v_max), a_max = comm_.max(ex.a_max);
+  if (!std::isfinite(v_max) || !std::isfinite(a_max)) {
+    throw SimulationError(fmt::format("the resin blew up at step {} (t = {:.6g} s): a velocity "
+                                      "or acceleration is not finite",
+                                      step_, time_));
+  }
+  dt_ = choose_time_step(case_.numerics, sp_, v_max, a_max);
+  const double dt = dt_.dt, half = 0.5 * dt;
+
+  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
+    if (ps_.kind[i] == Kind::Fluid) {
+      ps_.v_half[i] = ps_.v[i] + half * ps_.a[i];
+      ps_.rho_half[i] = ps_.rho[i] + half * ps_.drho[i];
+      ps_.x[i] += dt * ps_.v_half[i];
+      ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
+      ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
+    }
+  }
+  // Rigid walls: exact for a piecewise-linear table within a segment.
+  std::vector<Vec<D>> disp(walls_.size());
+  for (std::size_t k = 0; k < walls_.size(); ++k) {
+    disp[k] = walls_[k].moves ? Vec<D>(dt * to_vec<D>(walls_[k].velocity(time_ + half)))
+                              : Vec<D>::Zero();
+  }
+  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
+    if (ps_.kind[i] == Kind::Wall && ps_.wall[i] >= 0) ps_.x[i] += disp[static_cast<std::size_t>(ps_.wall[i])];
+  }
+  time_ += dt;
+  ++step_;
+  set_wall_velocities(time_);
+
+  if (comm_.any(nl_.needs_rebuild(ps_))) rebuild_neighbors();
+  compute_rates();
+  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
+    if (ps_.kind[i] == Kind::Fluid) {
+      ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
+      ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
+    }
+  }
+}
+
+template <int D>
+void Simulation<D>::check_health() const {
+  bool bad = false;
+  std::string what;
+  for (std::size_t i = 0; i < ps_.n_owned && !bad; ++i) {
+    for (int k = 0; k < D; ++k) {
+      const double x = ps_.x[i][k];
+      if (!std::isfinite(x)) {
+        bad = true;
+        what = fmt::format("particle {} has a non-finite position", ps_.gid[i]);
+        break;
+      }
+      if (!case_.periodic[k] && (x < domain_.lo[k] || x > domain_.hi[k])) {
+        bad = true;
+        what = fmt::format("particle {} left the domain along axis {} (x = {:.6g} m, domain "
+                           "[{:.6g}, {:.6g}])",
+                           ps_.gid[i], "xyz"[k], x, domain_.lo[k], domain_.hi[k]);
+        break;
+      }
+    }
+  }
+  if (comm_.any(bad)) {
+    throw SimulationError(fmt::format("step {} (t = {:.6g} s): {}", step_, time_,
+                                      what.empty() ? "a particle on another rank failed" : what));
+  }
+}
+
+template <int D>
+void Simulation<D>::advance(std::int64_t n) {
+  for (std::int64_t s = 0; s < n; ++s) do_step();
+}
+
+template <int D>
+std::string Simulation<D>::write_snapshot() {
+  if (!writer_) {
+    std::filesystem::create_directories(opt_.output_dir);
+    writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name);
+    if (comm_.root()) {
+      std::ofstream(std::filesystem::path(opt_.output_dir) / "case.yaml") << case_.source_text;
+    }
+  }
+  SnapshotBuffers<D> buf(ps_, case_.output.fields);
+  ++snapshots_;
+  return writer_->write(step_, time_, buf.views());
+}
+
+template <int D>
+void Simulation<D>::report_progress(double elapsed, std::int64_t steps_done, bool force) const {
+  if (!opt_.log || !comm_.root()) return;
+  if (!force && (case_.output.progress_every <= 0 || step_ % case_.output.progress_every != 0))
+    return;
+  const double rate = elapsed > 0 ? static_cast<double>(n_fluid_global_) * steps_done / elapsed : 0;
+  const double remaining_sim = std::max(0.0, case_.numerics.end_time - time_);
+  const double sim_per_wall = elapsed > 0 ? time_ / elapsed : 0;
+  const double eta = sim_per_wall > 0 ? remaining_sim / sim_per_wall : 0;
+  const WallMotion* piston = nullptr;
+  for (const WallMotion& w : walls_)
+    if (w.moves) piston = &w;
+  std::string wall_info;
+  if (piston) {
+    wall_info = fmt::format("  {} v={:.3g} m/s p={:.3g} Pa", piston->name,
+                            std::hypot(piston->velocity(time_)[0], piston->velocity(time_)[1],
+                                       piston->velocity(time_)[2]),
+                            piston->face_pressure);
+  }
+  *opt_.log << fmt::format("step {:>8}  t={:.4e} s  dt={:.3e} s ({})  {:.3g} particle-steps/s  "
+                           "ETA {:02d}:{:02d}:{:02d}{}\n",
+                           step_, time_, dt_.dt, to_string(dt_.limit), rate,
+                           static_cast<int>(eta / 3600), static_cast<int>(eta / 60) % 60,
+                           static_cast<int>(eta) % 60, wall_info)
+            << std::flush;
+}
+
+template <int D>
+RunSummary Simulation<D>::run() {
+  const auto t0 = std::chrono::steady_clock::now();
+  const double end = case_.numerics.end_time;
+  const double every_t = case_.output.every_time.value_or(0.0);
+  const std::int64_t every_s = case_.output.every_steps.value_or(0);
+  const std::int64_t step0 = step_;
+  if (opt_.write_output) write_snapshot();
+  next_output_time_ = time_ + every_t;
+  try {
+    while (time_ < end * (1 - 1e-12) && (!opt_.max_steps || step_ < *opt_.max_steps)) {
+      do_step();
+      report_progress(seconds_since(t0), step_ - step0, false);
+      bool out = (every_s > 0 && step_ % every_s == 0);
+      if (every_t > 0 && time_ >= next_output_time_ * (1 - 1e-12)) {
+        out = true;
+        while (next_output_time_ <= time_ * (1 + 1e-12)) next_output_time_ += every_t;
+      }
+      if (out && opt_.write_output) write_snapshot();
+    }
+  } catch (const SimulationError&) {
+    if (opt_.write_output) {
+      const std::string last = write_snapshot();
+      if (opt_.log && comm_.root()) *opt_.log << "last state written to " << last << "\n";
+    }
+    throw;
+  }
+  RunSummary s;
+  s.steps = step_ - step0;
+  s.time = time_;
+  s.wall_seconds = seconds_since(t0);
+  s.particle_steps_per_second =
+      s.wall_seconds > 0 ? static_cast<double>(n_fluid_global_) * s.steps / s.wall_seconds : 0;
+  report_progress(s.wall_seconds, s.steps, true);
+  s.snapshots = snapshots_;
+  return s;
+}
+
+template class Simulation<2>;
+template class Simulation<3>;
+
+}  // namespace sphdem

@@ -1,0 +1,92 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "sphdem/sph.hpp"
+
+namespace sphdem {
+
+SphParams make_sph_params(const Case& c) {
+  SphParams sp;
+  sp.h = c.h();
+  sp.spacing = c.numerics.spacing;
+  sp.rho0 = c.resin.density;
+  sp.c0 = c.resin.sound_speed;
+  sp.gamma = c.resin.gamma;
+  sp.mu = c.numerics.viscosity_model == ViscosityModel::None ? 0.0 : c.resin.viscosity;
+  if (c.numerics.viscosity_lattice_correction) {
+    sp.mu_scale = viscous_lattice_correction(c.dimension, c.numerics.h_over_spacing);
+  }
+  sp.alpha = c.numerics.artificial_viscosity;
+  sp.delta = c.numerics.delta_sph;
+  sp.anti_clump = c.numerics.anti_clump;
+  sp.anti_clump_eps = c.numerics.anti_clump_epsilon;
+  sp.anti_clump_n = c.numerics.anti_clump_exponent;
+  sp.eta2 = 0.01 * sp.h * sp.h;
+  sp.body_force = c.body_force;
+  return sp;
+}
+
+namespace {
+template <int D>
+double lattice_moment(double h) {
+  const WendlandC2<D> kernel(h);
+  const double eta2 = 0.01 * h * h;
+  const int n = static_cast<int>(std::ceil(2.0 * h)) + 1;
+  double m = 0.0;
+  const int nz = D == 3 ? n : 0;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int k = -nz; k <= nz; ++k) {
+        const double r2 = double(i * i + j * j + k * k);
+        if (r2 == 0.0) continue;
+        m -= kernel.f(std::sqrt(r2)) * r2 * r2 / (r2 + eta2);
+      }
+  return m;
+}
+}  // namespace
+
+double viscous_lattice_correction(int dimension, double h_over_spacing) {
+  const double m = dimension == 2 ? lattice_moment<2>(h_over_spacing)
+                                  : lattice_moment<3>(h_over_spacing);
+  return dimension / m;
+}
+
+template <int D>
+LocalExtremes local_extremes(const SphParticles<D>& ps) {
+  double v2 = 0.0, a2 = 0.0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    v2 = std::max(v2, ps.v[i].squaredNorm());
+    if (ps.kind[i] == Kind::Fluid) a2 = std::max(a2, ps.a[i].squaredNorm());
+  }
+  return {std::sqrt(v2), std::sqrt(a2)};
+}
+
+const char* to_string(DtLimit l) {
+  switch (l) {
+    case DtLimit::Cfl: return "cfl";
+    case DtLimit::Force: return "force";
+    case DtLimit::Viscous: return "viscous";
+    case DtLimit::Fixed: return "fixed";
+  }
+  return "?";
+}
+
+TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max, double a_max) {
+  if (num.fixed_dt) return {*num.fixed_dt, DtLimit::Fixed};
+  TimeStep ts{num.cfl * sp.h / (sp.c0 + v_max), DtLimit::Cfl};
+  if (a_max > 0) {
+    const double dt_f = num.force_factor * std::sqrt(sp.h / a_max);
+    if (dt_f < ts.dt) ts = {dt_f, DtLimit::Force};
+  }
+  if (sp.mu > 0) {
+    const double dt_v = num.viscous_factor * sp.h * sp.h * sp.rho0 / sp.mu;
+    if (dt_v < ts.dt) ts = {dt_v, DtLimit::Viscous};
+  }
+  return ts;
+}
+
+template LocalExtremes local_extremes<2>(const SphParticles<2>&);
+template LocalExtremes local_extremes<3>(const SphParticles<3>&);
+
+}  // namespace sphdem

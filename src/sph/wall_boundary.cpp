@@ -1,0 +1,80 @@
+// No-slip dummy wall particles, Adami, Hu & Adams (2012), JCP 231:7057.
+// For a wall particle w with resin neighbors f:
+//   P_w = (sum_f P_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf
+//   rho_w = EOS^-1(P_w)
+//   v_w(no-slip) = 2 v_w - sum_f v_f W_wf / sum_f W_wf
+// A wall particle with no resin neighbor gets P = 0, rho = rho0 and its own
+// velocity. The resin sees the wall through these values in the rate loop.
+#include "sphdem/sph.hpp"
+
+namespace sphdem {
+
+template <int D>
+std::vector<WallPressure> compute_wall_state(const SphParams& sp, const TaitEos& eos,
+                                             const NeighborList<D>& nl,
+                                             const std::vector<Vec<D>>& wall_accel,
+                                             SphParticles<D>& ps) {
+  const WendlandC2<D> kernel(sp.h);
+  Vec<D> g;
+  for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
+  std::vector<WallPressure> face(wall_accel.size());
+  const std::int32_t* nb = nl.indices();
+  for (std::size_t w = 0; w < ps.n_owned; ++w) {
+    if (ps.kind[w] != Kind::Wall) continue;
+    const Vec<D> xw = ps.x[w];
+    double sum_w = 0.0, sum_p = 0.0;
+    Vec<D> sum_rho_r = Vec<D>::Zero(), sum_v = Vec<D>::Zero();
+    for (std::size_t n = nl.begin(w), e = nl.end(w); n < e; ++n) {
+      const std::int32_t f = nb[n];
+      const Vec<D> r_wf = xw - ps.x[f];
+      const double W = kernel.w(r_wf.norm());
+      if (W == 0.0) continue;
+      sum_w += W;
+      sum_p += ps.p[f] * W;
+      sum_rho_r += (ps.rho[f] * W) * r_wf;
+      sum_v += W * ps.v[f];
+    }
+    const std::int32_t k = ps.wall[w];
+    if (sum_w <= 0.0) {
+      ps.p[w] = 0.0;
+      ps.rho[w] = eos.rho0();
+      ps.vwall[w] = ps.v[w];
+      continue;
+    }
+    const Vec<D> a_w = (k >= 0 && static_cast<std::size_t>(k) < wall_accel.size())
+                           ? wall_accel[static_cast<std::size_t>(k)]
+                           : Vec<D>::Zero();
+    const double p = (sum_p + (g - a_w).dot(sum_rho_r)) / sum_w;
+    ps.p[w] = p;
+    ps.rho[w] = eos.density(p);
+    ps.vwall[w] = 2.0 * ps.v[w] - sum_v / sum_w;
+    if (k >= 0 && static_cast<std::size_t>(k) < face.size()) {
+      face[static_cast<std::size_t>(k)].sum += p;
+      face[static_cast<std::size_t>(k)].count += 1.0;
+    }
+  }
+  return face;
+}
+
+template <int D>
+void compute_fluid_pressure(const TaitEos& eos, SphParticles<D>& ps) {
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    if (ps.kind[i] == Kind::Fluid) {
+      ps.p[i] = eos.pressure(ps.rho[i]);
+      ps.vwall[i] = ps.v[i];  // resin neighbors are seen with their own velocity
+    }
+  }
+}
+
+template std::vector<WallPressure> compute_wall_state<2>(const SphParams&, const TaitEos&,
+                                                         const NeighborList<2>&,
+                                                         const std::vector<Vec<2>>&,
+                                                         SphParticles<2>&);
+template std::vector<WallPressure> compute_wall_state<3>(const SphParams&, const TaitEos&,
+                                                         const NeighborList<3>&,
+                                                         const std::vector<Vec<3>>&,
+                                                         SphParticles<3>&);
+template void compute_fluid_pressure<2>(const TaitEos&, SphParticles<2>&);
+template void compute_fluid_pressure<3>(const TaitEos&, SphParticles<3>&);
+
+}  // namespace sphdem
