@@ -98,6 +98,16 @@ def check_grid(c, where, grid, directory, count):
     c.check(topology is not None and topology.get("TopologyType") == "Polyvertex"
             and int(topology.get("NumberOfElements", -1)) == count,
             f"{where}: topology does not describe {count} points")
+    connectivity = grid.find("Topology/DataItem")
+    if c.check(connectivity is not None and connectivity.get("ItemType") == "Function",
+               f"{where}: topology has no connectivity Function"):
+        # Vertex k is row k: the Function maps each id to id - id_min.
+        file_name, _, dataset = connectivity.find("DataItem").text.strip().partition(":")
+        with h5py.File(directory / file_name, "r") as f:
+            first = int(f[dataset][0]) if dataset in f and count > 0 else 0
+        shift = f"$0 - {first}" if first >= 0 else f"$0 + {-first}"
+        c.check(dataset.endswith("/id") and connectivity.get("Function") == shift,
+                f"{where}: connectivity {connectivity.get('Function')} of {dataset}, want {shift}")
     geometry = grid.find("Geometry")
     c.check(geometry is not None and geometry.get("GeometryType") == "XYZ",
             f"{where}: geometry is not XYZ")

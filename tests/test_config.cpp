@@ -4,6 +4,8 @@
 
 #include <cstdio>
 #include <fstream>
+#include <iterator>
+#include <ostream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -120,7 +122,9 @@ void expect_error(const std::string& text, int line, const std::string& key,
     EXPECT_EQ(e.key(), key) << what;
     EXPECT_TRUE(contains(what, line > 0 ? file + ":" + std::to_string(line) + ":" : file + ":"))
         << what;
-    if (!key.empty()) EXPECT_TRUE(contains(what, "key '" + key + "'")) << what;
+    if (!key.empty()) {
+      EXPECT_TRUE(contains(what, "key '" + key + "'")) << what;
+    }
     EXPECT_TRUE(contains(what, message)) << what << "\n  expected to contain: " << message;
   }
 }
@@ -283,6 +287,22 @@ TEST(Config, LoadCaseReadsAFile) {
   EXPECT_EQ(c.numerics.cfl, 0.2);
 }
 
+// The complete example in docs/case-file.md (its last yaml block) loads.
+TEST(Config, DocumentedExampleLoads) {
+  std::ifstream in(std::string(SPHDEM_SOURCE_DIR) + "/docs/case-file.md");
+  ASSERT_TRUE(in) << "docs/case-file.md not found";
+  const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::size_t start = doc.rfind("```yaml\n");
+  ASSERT_NE(start, std::string::npos);
+  const std::size_t end = doc.find("```", start + 8);
+  ASSERT_NE(end, std::string::npos);
+  const Case c = load_case_from_string(doc.substr(start + 8, end - start - 8), "plate.yaml");
+  EXPECT_EQ(c.name, "plate");
+  EXPECT_EQ(c.mold.shapes.size(), 4u);
+  EXPECT_EQ(c.moving_walls.at(0).velocity.time.size(), 3u);
+  EXPECT_TRUE(c.warnings.empty());
+}
+
 // --- --set overrides ---------------------------------------------------------
 
 TEST(Config, OverrideNumberListAndBool) {
@@ -303,7 +323,7 @@ TEST(Config, OverrideListIndexNewSectionAndRemoval) {
       edit(kMinimal, "end_time: 0.12", "end_time: 0.12\n  fixed_dt: 1.0e-6"), kFile,
       {"mold.shapes[0].box.max=[0.04, 0.03]", "output.every_steps=10", "numerics.fixed_dt=~"});
   EXPECT_EQ(c.mold.shapes[0].hi, (Vec3a{0.04, 0.03, 0}));
-  EXPECT_EQ(c.mold.shapes[0].line, 11);  // the shape itself still comes from the file
+  EXPECT_EQ(c.mold.shapes[0].line, 12);  // the shape itself still comes from the file
   EXPECT_EQ(c.output.every_steps, 10);
   EXPECT_FALSE(c.numerics.fixed_dt.has_value());
 }
@@ -358,6 +378,10 @@ struct BadEdit {
   const char* message;
 };
 
+void PrintTo(const BadEdit& b, std::ostream* os) {
+  *os << b.name;
+}
+
 class ConfigBadEdit : public ::testing::TestWithParam<BadEdit> {};
 
 TEST_P(ConfigBadEdit, NamesFileLineAndKey) {
@@ -388,7 +412,7 @@ const BadEdit kBadEdits[] = {
     {"IntegerExpected", "dimension: 2", "dimension: 2.5", 1, "dimension",
      "expected an integer, got '2.5'"},
     {"BadDimension", "dimension: 2", "dimension: 4", 1, "dimension", "must be 2 or 3, got 4"},
-    {"MissingRequiredKey", "viscosity: 0.1", "gamma: 7", 3, "resin.viscosity",
+    {"MissingRequiredKey", "viscosity: 0.1", "gamma: 7", 2, "resin.viscosity",
      "missing required key"},
     {"MissingSection", "numerics:", "numerix:", 6, "numerix",
      "unknown key (did you mean 'numerics'?)"},
@@ -478,13 +502,13 @@ fill:
 }
 
 // An L-shaped mold whose bounding box contains the fill but whose shape
-// does not: the fill's corner (0.018, 0.018) is in the missing quadrant.
+// does not: its top edge crosses the missing quadrant.
 TEST(Config, FillOutsideConcaveLShapedMold) {
   const std::string text = edit(
       kMinimal, "    - box: {min: [0, 0], max: [0.03, 0.03]}",
       "    - polygon: [[0, 0], [0.02, 0], [0.02, 0.01], [0.01, 0.01], [0.01, 0.02], [0, 0.02]]");
   expect_error(edit(text, "max: [0.03, 0.02]}", "max: [0.018, 0.018]}"), 13, "fill[0]",
-               "fill region lies outside the mold (point (0.018, 0) is outside)");
+               "fill region lies outside the mold (point (0.01125, 0.018) is outside)");
 }
 
 TEST(Config, FillInsideLShapedMoldLoads) {

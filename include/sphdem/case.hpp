@@ -40,10 +40,9 @@ struct Numerics {
   std::optional<double> fixed_dt;
   double end_time = 0;
   ViscosityModel viscosity_model = ViscosityModel::Morris;
-  // Scale the laminar viscosity by D / M, M being the discrete second moment
-  // of the kernel gradient on the initial lattice (sph/time_step.cpp), so the
-  // discrete Laplacian is exact for quadratic profiles on that lattice.
-  bool viscosity_lattice_correction = true;
+  // Scale the kernel gradient and the viscous Laplacian so they are exact on
+  // the lattice the resin starts on (see gradient_lattice_correction, sph.hpp).
+  bool lattice_correction = true;
   double artificial_viscosity = 0.0;  // Monaghan alpha
   double delta_sph = 0.0;             // Molteni-Colagrossi delta, 0 = off
   bool anti_clump = true;             // Monaghan (2000) tensile-instability term
@@ -100,6 +99,7 @@ struct Case {
   std::vector<MovingWall> moving_walls;
   std::vector<SlidingWall> sliding_walls;
   Vec3a body_force{};  // [m/s^2]
+  Vec3a initial_velocity{};  // [m/s] of the resin at t = 0
   std::array<bool, 3> periodic{false, false, false};
   std::optional<Vec3a> domain_lo, domain_hi;  // default: mold bbox + wall layers
   Output output;

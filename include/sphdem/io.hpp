@@ -59,6 +59,7 @@ class SnapshotWriter {
   struct SetEntry {
     std::string name;
     std::int64_t count = 0;
+    std::int64_t id_min = 0;  // row = id - id_min, also the XDMF vertex index
     std::vector<std::pair<std::string, int>> fields;  // name, columns in the file (1 or 3)
   };
   struct Entry {

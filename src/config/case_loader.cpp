@@ -6,7 +6,10 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "overrides.hpp"
 #include "shapes.hpp"
@@ -28,8 +31,9 @@ constexpr double kMaxMach = 0.1;                      // weakly compressible lim
 
 std::string one_of(const Value& v, const std::vector<std::string>& allowed) {
   const std::string s = v.string();
-  if (std::find(allowed.begin(), allowed.end(), s) == allowed.end())
+  if (std::find(allowed.begin(), allowed.end(), s) == allowed.end()) {
     v.fail("unknown value '" + s + "'" + config::suggestion(s, allowed));
+  }
   return s;
 }
 
@@ -50,12 +54,14 @@ double read_sound_speed(const Map& m) {
   const std::optional<Value> c0 = m.get("sound_speed");
   const std::optional<Value> mach = m.get("mach");
   const std::optional<Value> vref = m.get("reference_velocity");
-  if (c0 && (mach || vref))
-    (mach ? *mach : *vref)
-        .fail("give either sound_speed or mach with reference_velocity, not both");
+  if (c0 && (mach || vref)) {
+    const Value& extra = mach ? *mach : *vref;
+    extra.fail("give either sound_speed or mach with reference_velocity, not both");
+  }
   if (c0) return config::positive(*c0);
-  if (!mach && !vref)
+  if (!mach && !vref) {
     m.require("sound_speed", " (give sound_speed, or both mach and reference_velocity)");
+  }
   const double ma = config::positive(m.require("mach", " (needed with reference_velocity)"));
   return config::positive(m.require("reference_velocity", " (needed with mach)")) / ma;
 }
@@ -78,24 +84,25 @@ void check_fixed_dt(const Map& m, const Numerics& n, const Resin& r) {
   if (!v) return;
   const double h = n.h_over_spacing * n.spacing;
   const double cfl_limit = n.cfl * h / r.sound_speed;
-  if (*n.fixed_dt > cfl_limit)
+  if (*n.fixed_dt > cfl_limit) {
     v->fail(fmt::format("{} s exceeds the stable limit cfl*h/c0 = {:.4g} s", v->text(), cfl_limit));
-  if (r.viscosity > 0) {
-    const double visc_limit = n.viscous_factor * h * h * r.density / r.viscosity;
-    if (*n.fixed_dt > visc_limit)
-      v->fail(
-          fmt::format("{} s exceeds the stable limit viscous_factor*h^2*density/viscosity = "
-                      "{:.4g} s",
-                      v->text(), visc_limit));
   }
-  if (!(n.end_time > *n.fixed_dt))
-    m.require("end_time")
-        .fail(fmt::format("must be greater than numerics.fixed_dt ({} s)", v->text()));
+  const double visc_limit = n.viscous_factor * h * h * r.density / r.viscosity;
+  if (r.viscosity > 0 && *n.fixed_dt > visc_limit) {
+    v->fail(
+        fmt::format("{} s exceeds the stable limit viscous_factor*h^2*density/viscosity = {:.4g} s",
+                    v->text(), visc_limit));
+  }
+  if (!(n.end_time > *n.fixed_dt)) {
+    const Value end_time = m.require("end_time");
+    end_time.fail(fmt::format("must be greater than numerics.fixed_dt ({} s)", v->text()));
+  }
 }
 
 void read_numerics_options(const Map& m, Numerics& n) {
-  if (auto x = m.get("h_over_spacing"))
+  if (auto x = m.get("h_over_spacing")) {
     n.h_over_spacing = config::in_interval(*x, {1, 3, false, false});
+  }
   if (auto x = m.get("cfl")) n.cfl = config::in_interval(*x, kUnitInterval);
   if (auto x = m.get("force_factor")) n.force_factor = config::in_interval(*x, kUnitInterval);
   if (auto x = m.get("viscous_factor")) n.viscous_factor = config::in_interval(*x, kUnitInterval);
@@ -107,18 +114,22 @@ void read_numerics_options(const Map& m, Numerics& n) {
   if (auto x = m.get("artificial_viscosity")) n.artificial_viscosity = config::non_negative(*x);
   if (auto x = m.get("delta_sph")) n.delta_sph = config::non_negative(*x);
   if (auto x = m.get("anti_clump")) n.anti_clump = x->boolean();
+  if (auto x = m.get("lattice_correction")) n.lattice_correction = x->boolean();
   if (auto x = m.get("anti_clump_epsilon")) n.anti_clump_epsilon = config::non_negative(*x);
-  if (auto x = m.get("anti_clump_exponent"))
+  if (auto x = m.get("anti_clump_exponent")) {
     n.anti_clump_exponent = config::integer_at_least(*x, 1);
-  if (auto x = m.get("neighbor_skin"))
+  }
+  if (auto x = m.get("neighbor_skin")) {
     n.neighbor_skin = config::in_interval(*x, {0, 1, false, true});
+  }
 }
 
 Numerics read_numerics(const Value& v, const Resin& r) {
   const Map m =
       v.map({"spacing", "h_over_spacing", "cfl", "force_factor", "viscous_factor", "fixed_dt",
              "end_time", "viscosity_model", "artificial_viscosity", "delta_sph", "anti_clump",
-             "anti_clump_epsilon", "anti_clump_exponent", "neighbor_skin"});
+             "anti_clump_epsilon", "anti_clump_exponent", "neighbor_skin",
+             "lattice_correction"});
   Numerics n;
   n.spacing = config::positive(m.require("spacing"));
   n.end_time = config::positive(m.require("end_time"));
@@ -138,18 +149,21 @@ Mold read_mold(const Value& v, int dim) {
 // Rows [t, v_x, v_y(, v_z)] with strictly increasing t.
 VelocityTable read_velocity_table(const Value& v, int dim) {
   const std::vector<Value> rows = v.list();
-  if (rows.empty())
+  if (rows.empty()) {
     v.fail("needs at least one row [t, v_x, v_y" + std::string(dim == 3 ? ", v_z]" : "]"));
+  }
   VelocityTable table;
   for (const Value& row : rows) {
     const std::vector<Value> cells = row.list();
-    if (cells.size() != static_cast<std::size_t>(dim + 1))
+    if (cells.size() != static_cast<std::size_t>(dim + 1)) {
       row.fail(fmt::format("expected {} numbers [t, velocity] (dimension {}), got {}", dim + 1, dim,
                            cells.size()));
+    }
     const double t = cells[0].number();
-    if (!table.time.empty() && !(t > table.time.back()))
-      cells[0].fail(fmt::format("times must be strictly increasing ({} after {})", cells[0].text(),
-                                table.time.back()));
+    if (!table.time.empty() && !(t > table.time.back())) {
+      cells[0].fail(
+          fmt::format("times must be strictly increasing ({} after {})", t, table.time.back()));
+    }
     Vec3a vel{};
     for (int d = 0; d < dim; ++d) vel[d] = cells[d + 1].number();
     table.time.push_back(t);
@@ -267,21 +281,24 @@ void check_fill_inside_mold(const Case& c, const Source& src) {
 void warn_mach(Case& c) {
   double vmax = 0;
   auto norm = [](const Vec3a& v) { return std::hypot(v[0], v[1], v[2]); };
-  for (const MovingWall& w : c.moving_walls)
+  for (const MovingWall& w : c.moving_walls) {
     for (const Vec3a& v : w.velocity.velocity) vmax = std::max(vmax, norm(v));
+  }
   for (const SlidingWall& w : c.sliding_walls) vmax = std::max(vmax, norm(w.velocity));
   const double mach = vmax / c.resin.sound_speed;
-  if (mach > kMaxMach)
+  if (mach > kMaxMach) {
     c.warnings.push_back(fmt::format(
         "Mach number {:.3g} (wall speed {:.3g} m/s, sound speed {:.3g} m/s) exceeds {}: expect "
         "density errors of about {:.2g} %",
         mach, vmax, c.resin.sound_speed, kMaxMach, 100 * mach * mach));
+  }
 }
 
 Case read_case(const Value& root, const Source& src) {
   const Map top =
       root.map({"name", "dimension", "resin", "numerics", "mold", "fill", "moving_walls",
-                "sliding_walls", "body_force", "periodic", "domain", "output"});
+                "sliding_walls", "body_force", "initial_velocity", "periodic", "domain",
+                "output"});
   Case c;
   c.dimension = read_dimension(top.require("dimension"));
   const std::optional<Value> name = top.get("name");
@@ -292,6 +309,7 @@ Case read_case(const Value& root, const Source& src) {
   c.fill = config::read_shape_list(top.require("fill"), c.dimension);
   read_walls(top, c);
   if (auto x = top.get("body_force")) c.body_force = x->vector(c.dimension);
+  if (auto x = top.get("initial_velocity")) c.initial_velocity = x->vector(c.dimension);
   read_periodic(top, c);
   c.output = read_output(top.get("output"), c);
   check_fill_inside_mold(c, src);
@@ -317,7 +335,14 @@ Case load_case_from_string(const std::string& text, const std::string& name_for_
     throw InputError(name_for_errors, 0, "", "the case file is empty");
   const Source src(name_for_errors, config::apply_overrides(root, overrides));
   const int root_line = root.Mark().line >= 0 ? root.Mark().line + 1 : 1;
-  Case c = read_case(Value(src, root, "", root_line), src);
+  Case c;
+  try {
+    c = read_case(Value(src, root, "", root_line), src);
+  } catch (const YAML::Exception& e) {
+    // The reader checks node types before use, so this is a safety net that
+    // keeps "bad input -> InputError" true even for a case it did not foresee.
+    throw InputError(name_for_errors, e.mark.line >= 0 ? e.mark.line + 1 : 0, "", e.what());
+  }
   c.source_file = name_for_errors;
   c.source_text = text;
   return c;

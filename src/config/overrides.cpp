@@ -73,9 +73,10 @@ YAML::Node descend(YAML::Node node, const std::vector<Step>& steps, std::size_t 
   const Step& s = steps[i];
   if (s.key.empty()) {
     if (!node.IsSequence()) bad(join(steps, i + 1), "'" + join(steps, i) + "' is not a list");
-    if (s.index >= node.size())
+    if (s.index >= node.size()) {
       bad(join(steps, i + 1), "index out of range ('" + join(steps, i) + "' has " +
                                   std::to_string(node.size()) + " items)");
+    }
     return node[s.index];
   }
   if (!node.IsMap() && !node.IsNull())

@@ -68,9 +68,11 @@ bool inside_polygon(const Vec3a& p, const std::vector<std::array<double, 2>>& v,
   bool inside = false;
   for (std::size_t i = 0, j = v.size() - 1; i < v.size(); j = i++) {
     if (segment_distance(p, v[j], v[i]) <= tol) return true;
-    if ((v[i][1] > p[1]) != (v[j][1] > p[1]) &&
-        p[0] < v[j][0] + (v[i][0] - v[j][0]) * (p[1] - v[j][1]) / (v[i][1] - v[j][1]))
+    const bool straddles = (v[i][1] > p[1]) != (v[j][1] > p[1]);
+    if (straddles &&
+        p[0] < v[j][0] + (v[i][0] - v[j][0]) * (p[1] - v[j][1]) / (v[i][1] - v[j][1])) {
       inside = !inside;
+    }
   }
   return inside;
 }
@@ -124,9 +126,10 @@ Shape read_box(const Value& v, int dim) {
   const Value max = m.require("max");
   s.hi = max.vector(dim);
   for (int d = 0; d < dim; ++d) {
-    if (!(s.lo[d] < s.hi[d]))
+    if (!(s.lo[d] < s.hi[d])) {
       max.fail(fmt::format("must be greater than min along {} (min {}, max {})", kAxis[d], s.lo[d],
                            s.hi[d]));
+    }
   }
   s.key = v.key();
   s.line = v.line();

@@ -208,12 +208,14 @@ int integer_at_least(const Value& v, int min) {
 }
 
 std::string closest_match(std::string_view word, const std::vector<std::string>& candidates) {
-  // Allow about one typo per four letters, as most spell checkers do.
-  const std::size_t budget = std::clamp<std::size_t>(word.size() / 4, 1, 3);
+  // About one typo per three letters; never a complete rewrite ('z' is not
+  // a misspelt 'x').
+  const std::size_t budget = std::clamp<std::size_t>((word.size() + 2) / 3, 1, 3);
   std::string best;
   std::size_t best_distance = budget + 1;
   for (const std::string& c : candidates) {
     const std::size_t d = edit_distance(lower(word), lower(c));
+    if (d >= word.size()) continue;
     if (d < best_distance) {
       best = c;
       best_distance = d;

@@ -132,9 +132,11 @@ InitialCounts build_initial_particles(const Case& c, SphParticles<D>& out) {
     }
   }
 
+  Vec<D> v0;
+  for (int k = 0; k < D; ++k) v0[k] = c.initial_velocity[k];
   std::int64_t id = 0;
   for (const Vec<D>& p : fluid) {
-    out.push_owned(id++, Kind::Fluid, -1, mass, p, Vec<D>::Zero(), rho0);
+    out.push_owned(id++, Kind::Fluid, -1, mass, p, v0, rho0);
   }
   for (const Vec<D>& p : wall) {
     out.push_owned(id++, Kind::Wall, wall_index_at<D>(c, p, tol), mass, p, Vec<D>::Zero(), rho0);

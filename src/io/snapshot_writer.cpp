@@ -25,6 +25,7 @@ using h5::Handle;
 // file is ordered by global id whatever the decomposition.
 struct RowPlan {
   std::int64_t n_global = 0;
+  std::int64_t id_min = 0;
   std::vector<std::size_t> order;                 // local indices, sorted by id
   std::vector<std::pair<hsize_t, hsize_t>> runs;  // first row, row count
 };
@@ -110,15 +111,15 @@ RowPlan plan_rows(const Comm& comm, const ParticleSetView& set) {
     hi = set.id[plan.order.back()];
   }
   plan.n_global = comm.sum(static_cast<std::int64_t>(set.n_local));
-  const std::int64_t id_min = comm.min(lo);
+  plan.id_min = comm.min(lo);
   const std::int64_t id_max = comm.max(hi);
   // Cross-rank duplicates are caught only when they leave a gap; the view
   // promises a dense range, this catches the common ways of breaking it.
-  if (comm.any(duplicate) || (plan.n_global > 0 && id_max - id_min + 1 != plan.n_global))
+  if (comm.any(duplicate) || (plan.n_global > 0 && id_max - plan.id_min + 1 != plan.n_global))
     throw std::runtime_error(fmt::format(
         "sphdem: set '{}': ids are not a dense range of unique values (N = {}, min = {}, max = {})",
-        set.name, plan.n_global, id_min, id_max));
-  plan.runs = coalesce(set, plan.order, id_min);
+        set.name, plan.n_global, plan.id_min, id_max));
+  plan.runs = coalesce(set, plan.order, plan.id_min);
   return plan;
 }
 
@@ -259,7 +260,8 @@ SnapshotWriter::Entry SnapshotWriter::write_hdf5(const std::string& path, std::i
   Entry entry{step, time, {}, {}};
   for (std::size_t s = 0; s < sets.size(); ++s) {
     write_set(file.get(), dxpl.get(), sets[s], plans[s], path);
-    SetEntry& e = entry.sets.emplace_back(SetEntry{sets[s].name, plans[s].n_global, {}});
+    SetEntry& e =
+        entry.sets.emplace_back(SetEntry{sets[s].name, plans[s].n_global, plans[s].id_min, {}});
     for (const auto& f : sets[s].fields) e.fields.emplace_back(f.name, file_columns(f.components));
   }
   file.close("close file", path);

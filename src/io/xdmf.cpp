@@ -44,12 +44,13 @@ std::string escape(std::string_view s) {
 }
 
 // `ref` is "<file>:/<set>/<dataset>"; cols is 1 or 3.
-std::string data_item(const std::string& ref, std::int64_t n, int cols, bool integer) {
+std::string data_item(const std::string& ref, std::int64_t n, int cols, bool integer,
+                      int indent = 12) {
   const std::string dims = cols == 1 ? std::to_string(n) : fmt::format("{} {}", n, cols);
   return fmt::format(
-      "            <DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"8\" "
+      "{:{}}<DataItem Dimensions=\"{}\" NumberType=\"{}\" Precision=\"8\" "
       "Format=\"HDF\">{}</DataItem>\n",
-      dims, integer ? "Int" : "Float", escape(ref));
+      "", indent, dims, integer ? "Int" : "Float", escape(ref));
 }
 
 std::string attribute(const std::string& prefix, const std::string& name, std::int64_t n, int cols,
@@ -59,19 +60,34 @@ std::string attribute(const std::string& prefix, const std::string& name, std::i
          data_item(prefix + name, n, cols, integer) + "          </Attribute>\n";
 }
 
-std::string uniform_grid(const std::string& file, const std::string& set, std::int64_t n,
-                         const std::vector<std::pair<std::string, int>>& fields) {
-  const std::string prefix = file + ":/" + set + "/";
-  std::string out = fmt::format("        <Grid Name=\"{}\" GridType=\"Uniform\">\n", escape(set));
-  out += fmt::format(
-      "          <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" "
-      "NodesPerElement=\"1\"/>\n",
-      n);
+// One vertex cell per particle. Xdmf3 readers build no cells from a Polyvertex
+// topology without connectivity, and cell-less points do not render; rows are
+// in id order, so id - id_min is each particle's point index (both readers
+// evaluate the Function).
+std::string topology(const std::string& prefix, std::int64_t n, std::int64_t id_min) {
+  const std::string shift =
+      id_min >= 0 ? fmt::format("$0 - {}", id_min) : fmt::format("$0 + {}", -id_min);
+  return fmt::format(
+             "          <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" "
+             "NodesPerElement=\"1\">\n"
+             "            <DataItem ItemType=\"Function\" Function=\"{}\" Dimensions=\"{}\">\n",
+             n, shift, n) +
+         data_item(prefix + "id", n, 1, true, 14) +
+         "            </DataItem>\n          </Topology>\n";
+}
+
+template <class Set>  // SnapshotWriter::SetEntry, a private type
+std::string uniform_grid(const std::string& file, const Set& set) {
+  const std::string prefix = file + ":/" + set.name + "/";
+  std::string out =
+      fmt::format("        <Grid Name=\"{}\" GridType=\"Uniform\">\n", escape(set.name));
+  out += topology(prefix, set.count, set.id_min);
   out += "          <Geometry GeometryType=\"XYZ\">\n";
-  out += data_item(prefix + "position", n, 3, false);
+  out += data_item(prefix + "position", set.count, 3, false);
   out += "          </Geometry>\n";
-  out += attribute(prefix, "id", n, 1, true);
-  for (const auto& [name, cols] : fields) out += attribute(prefix, name, n, cols, false);
+  out += attribute(prefix, "id", set.count, 1, true);
+  for (const auto& [name, cols] : set.fields)
+    out += attribute(prefix, name, set.count, cols, false);
   return out + "        </Grid>\n";
 }
 
@@ -93,7 +109,7 @@ std::string SnapshotWriter::xdmf_text(const std::string& title, const std::vecto
     out += fmt::format("        <Time Value=\"{:.17g}\"/>\n", e.time);
     // Empty grids upset ParaView's readers; the set reappears when it has particles.
     for (const auto& s : e.sets)
-      if (s.count > 0) out += uniform_grid(e.file, s.name, s.count, s.fields);
+      if (s.count > 0) out += uniform_grid(e.file, s);
     out += "      </Grid>\n";
   }
   return out + "    </Grid>\n  </Domain>\n</Xdmf>\n";

@@ -26,7 +26,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
                 const Scratch& s) {
   const WendlandC2<D> kernel(sp.h);
   const double support2 = 4.0 * sp.h * sp.h;
-  const double two_mu = 2.0 * sp.mu * sp.mu_scale;
+  const double two_mu = 2.0 * sp.mu * sp.mu_scale / sp.grad_scale;  // F carries grad_scale
   const double alpha_c0_h = sp.alpha * sp.c0 * sp.h;
   const double delta_h_c0 = sp.delta * sp.h * sp.c0;
   const double inv_w_dp = 1.0 / kernel.w(sp.spacing);
@@ -48,7 +48,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
       const double r2 = x_ij.squaredNorm();
       if (r2 >= support2) continue;
       const double r = std::sqrt(r2);
-      const double F = kernel.f(r);
+      const double F = kernel.f(r) * sp.grad_scale;
       const double m_j = ps.mass[j];
       const double rho_j = ps.rho[j];
       drho += terms::continuity<D>(m_j, F, vi - ps.v[j], x_ij);

@@ -14,8 +14,9 @@ SphParams make_sph_params(const Case& c) {
   sp.c0 = c.resin.sound_speed;
   sp.gamma = c.resin.gamma;
   sp.mu = c.numerics.viscosity_model == ViscosityModel::None ? 0.0 : c.resin.viscosity;
-  if (c.numerics.viscosity_lattice_correction) {
+  if (c.numerics.lattice_correction) {
     sp.mu_scale = viscous_lattice_correction(c.dimension, c.numerics.h_over_spacing);
+    sp.grad_scale = gradient_lattice_correction(c.dimension, c.numerics.h_over_spacing);
   }
   sp.alpha = c.numerics.artificial_viscosity;
   sp.delta = c.numerics.delta_sph;
@@ -28,10 +29,12 @@ SphParams make_sph_params(const Case& c) {
 }
 
 namespace {
+// -sum_j F(r_j) w(r_j) x_j^2 over a unit lattice, with w = r^2/(r^2+eta^2)
+// (the Morris factor) or w = 1 (the plain gradient).
 template <int D>
-double lattice_moment(double h) {
+double lattice_moment(double h, bool morris) {
   const WendlandC2<D> kernel(h);
-  const double eta2 = 0.01 * h * h;
+  const double eta2 = morris ? 0.01 * h * h : 0.0;
   const int n = static_cast<int>(std::ceil(2.0 * h)) + 1;
   double m = 0.0;
   const int nz = D == 3 ? n : 0;
@@ -42,14 +45,18 @@ double lattice_moment(double h) {
         if (r2 == 0.0) continue;
         m -= kernel.f(std::sqrt(r2)) * r2 * r2 / (r2 + eta2);
       }
-  return m;
+  return m / D;  // the moment of one component, x_j^2, by the lattice's symmetry
 }
 }  // namespace
 
 double viscous_lattice_correction(int dimension, double h_over_spacing) {
-  const double m = dimension == 2 ? lattice_moment<2>(h_over_spacing)
-                                  : lattice_moment<3>(h_over_spacing);
-  return dimension / m;
+  return 1.0 / (dimension == 2 ? lattice_moment<2>(h_over_spacing, true)
+                               : lattice_moment<3>(h_over_spacing, true));
+}
+
+double gradient_lattice_correction(int dimension, double h_over_spacing) {
+  return 1.0 / (dimension == 2 ? lattice_moment<2>(h_over_spacing, false)
+                               : lattice_moment<3>(h_over_spacing, false));
 }
 
 template <int D>

@@ -4,7 +4,10 @@
 //   rho_w = EOS^-1(P_w)
 //   v_w(no-slip) = 2 v_w - sum_f v_f W_wf / sum_f W_wf
 // A wall particle with no resin neighbor gets P = 0, rho = rho0 and its own
-// velocity. The resin sees the wall through these values in the rate loop.
+// velocity. Negative wall pressures are clipped at zero (no adhesion).
+// The resin sees the wall through these values in the rate loop.
+#include <algorithm>
+
 #include "sphdem/sph.hpp"
 
 namespace sphdem {
@@ -44,7 +47,9 @@ std::vector<WallPressure> compute_wall_state(const SphParams& sp, const TaitEos&
     const Vec<D> a_w = (k >= 0 && static_cast<std::size_t>(k) < wall_accel.size())
                            ? wall_accel[static_cast<std::size_t>(k)]
                            : Vec<D>::Zero();
-    const double p = (sum_p + (g - a_w).dot(sum_rho_r)) / sum_w;
+    // Walls push but never pull: a negative extrapolated pressure would glue
+    // resin to the wall, so it is clipped at zero and resin may separate.
+    const double p = std::max(0.0, (sum_p + (g - a_w).dot(sum_rho_r)) / sum_w);
     ps.p[w] = p;
     ps.rho[w] = eos.density(p);
     ps.vwall[w] = 2.0 * ps.v[w] - sum_v / sum_w;

@@ -1,0 +1,59 @@
+#pragma once
+// Shared helpers for the validation tests: load a case from inputs/, run it
+// without output to a given time, and the analytic references of
+// ../shared/validation/ANALYTIC.md.
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "sphdem/config.hpp"
+#include "sphdem/solver.hpp"
+
+namespace sphdem::testing {
+
+inline Case load_input(const std::string& relative, const std::vector<std::string>& sets = {}) {
+  return load_case(std::string(SPHDEM_SOURCE_DIR) + "/inputs/" + relative, sets);
+}
+
+template <int D>
+void run_until(Simulation<D>& sim, double t) {
+  while (sim.time() < t * (1 - 1e-12)) sim.advance(1);
+}
+
+// Morris et al. (1997) start-up Poiseuille flow, physical sign (ANALYTIC.md 1).
+inline double poiseuille(double y, double t, double L, double nu, double F) {
+  double u = F / (2 * nu) * y * (L - y);
+  for (int n = 0; n < 400; ++n) {
+    const double k = 2 * n + 1;
+    u -= 4 * F * L * L / (nu * std::pow(std::numbers::pi, 3) * k * k * k) *
+         std::sin(k * std::numbers::pi * y / L) *
+         std::exp(-k * k * std::numbers::pi * std::numbers::pi * nu * t / (L * L));
+  }
+  return u;
+}
+
+// Start-up Couette flow, plate at y = L moving at v0 (ANALYTIC.md 1).
+inline double couette(double y, double t, double L, double nu, double v0) {
+  double u = v0 * y / L;
+  for (int n = 1; n < 4000; ++n) {
+    u += 2 * v0 / (n * std::numbers::pi) * (n % 2 == 0 ? 1.0 : -1.0) *
+         std::sin(n * std::numbers::pi * y / L) *
+         std::exp(-nu * n * n * std::numbers::pi * std::numbers::pi * t / (L * L));
+  }
+  return u;
+}
+
+// Relative L2 error of the resin's x velocity against u(y).
+template <int D, class F>
+double relative_l2_ux(const SphParticles<D>& ps, F&& u) {
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    const double ua = u(ps.x[i][1]);
+    num += (ps.v[i][0] - ua) * (ps.v[i][0] - ua);
+    den += ua * ua;
+  }
+  return std::sqrt(num / den);
+}
+
+}  // namespace sphdem::testing
