@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs what is missing (Debian packages), builds the test configuration
+# (warnings as errors) and runs the whole test suite with ctest: unit,
+# validation, MPI (1-4 ranks), I/O (h5py) and ParaView checks.
+#   scripts/test.sh              # what CI runs (.ci/run)
+#   scripts/test.sh --sanitize   # the same suite under AddressSanitizer + UBSan
+set -euo pipefail
+cd "$(dirname "$0")/.."
+preset=test
+[[ "${1:-}" == "--sanitize" ]] && preset=sanitize
+scripts/install-deps.sh
+if [[ $(id -u) -eq 0 ]]; then
+  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+fi
+# Open MPI's own allocations are reported by LeakSanitizer; they are not ours.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0}
+cmake --preset "$preset" >/dev/null
+cmake --build --preset "$preset"
+ctest --preset "$preset"
