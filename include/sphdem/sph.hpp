@@ -53,14 +53,21 @@ struct WallPressure {
   double count = 0;
 };
 
+// What the wall extrapolation needs to know of moving or sliding wall k.
+template <int D>
+struct WallKinematics {
+  Vec<D> accel = Vec<D>::Zero();  // the wall's acceleration [m/s^2]
+  double pressure_floor = 0.0;    // lowest extrapolated pressure [Pa]
+};
+
 // Dummy-particle walls (Adami, Hu & Adams 2012): every owned wall particle
 // takes pressure, density and a no-slip velocity from its resin neighbors.
-// wall_accel[k] is the acceleration of moving wall k. Returns the face
-// pressure sums per wall (indexed like wall_accel).
+// Fixed walls (index -1) have a pressure floor of 0. Returns the face
+// pressure sums per wall (indexed like `walls`).
 template <int D>
 std::vector<WallPressure> compute_wall_state(const SphParams& sp, const TaitEos& eos,
                                              const NeighborList<D>& nl,
-                                             const std::vector<Vec<D>>& wall_accel,
+                                             const std::vector<WallKinematics<D>>& walls,
                                              SphParticles<D>& ps);
 
 // Continuity (paper Eq. 3, + optional delta-SPH) and momentum (paper Eq. 5

@@ -21,6 +21,9 @@ Vec<D> to_vec(const Vec3a& a) {
   return v;
 }
 
+// Gauge pressure of a vacuum: the most a piston can pull on the resin.
+constexpr double kAtmosphere = 101325.0;
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -76,9 +79,12 @@ template <int D>
 void Simulation<D>::compute_rates() {
   halo_.update_state(ps_);
   compute_fluid_pressure<D>(eos_, ps_);
-  std::vector<Vec<D>> accel(walls_.size());
-  for (std::size_t k = 0; k < walls_.size(); ++k) accel[k] = to_vec<D>(walls_[k].acceleration(time_));
-  const std::vector<WallPressure> face = compute_wall_state<D>(sp_, eos_, nl_, accel, ps_);
+  std::vector<WallKinematics<D>> kin(walls_.size());
+  for (std::size_t k = 0; k < walls_.size(); ++k) {
+    kin[k].accel = to_vec<D>(walls_[k].acceleration(time_));
+    kin[k].pressure_floor = walls_[k].moves ? -kAtmosphere : 0.0;
+  }
+  const std::vector<WallPressure> face = compute_wall_state<D>(sp_, eos_, nl_, kin, ps_);
   std::vector<double> mean(face.size());
   for (std::size_t k = 0; k < face.size(); ++k) {
     const double count = comm_.sum(face[k].count);

@@ -4,7 +4,8 @@
 //   rho_w = EOS^-1(P_w)
 //   v_w(no-slip) = 2 v_w - sum_f v_f W_wf / sum_f W_wf
 // A wall particle with no resin neighbor gets P = 0, rho = rho0 and its own
-// velocity. Negative wall pressures are clipped at zero (no adhesion).
+// velocity. Negative wall pressures are clipped at the wall's floor: 0 for
+// fixed walls (no adhesion), -1 atm for a piston (no air gets behind it).
 // The resin sees the wall through these values in the rate loop.
 #include <algorithm>
 
@@ -15,12 +16,12 @@ namespace sphdem {
 template <int D>
 std::vector<WallPressure> compute_wall_state(const SphParams& sp, const TaitEos& eos,
                                              const NeighborList<D>& nl,
-                                             const std::vector<Vec<D>>& wall_accel,
+                                             const std::vector<WallKinematics<D>>& walls,
                                              SphParticles<D>& ps) {
   const WendlandC2<D> kernel(sp.h);
   Vec<D> g;
   for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
-  std::vector<WallPressure> face(wall_accel.size());
+  std::vector<WallPressure> face(walls.size());
   const std::int32_t* nb = nl.indices();
   for (std::size_t w = 0; w < ps.n_owned; ++w) {
     if (ps.kind[w] != Kind::Wall) continue;
@@ -44,12 +45,13 @@ std::vector<WallPressure> compute_wall_state(const SphParams& sp, const TaitEos&
       ps.vwall[w] = ps.v[w];
       continue;
     }
-    const Vec<D> a_w = (k >= 0 && static_cast<std::size_t>(k) < wall_accel.size())
-                           ? wall_accel[static_cast<std::size_t>(k)]
-                           : Vec<D>::Zero();
-    // Walls push but never pull: a negative extrapolated pressure would glue
-    // resin to the wall, so it is clipped at zero and resin may separate.
-    const double p = std::max(0.0, (sum_p + (g - a_w).dot(sum_rho_r)) / sum_w);
+    const bool listed = k >= 0 && static_cast<std::size_t>(k) < walls.size();
+    const Vec<D> a_w = listed ? walls[static_cast<std::size_t>(k)].accel : Vec<D>::Zero();
+    // A fixed wall pushes but never pulls (floor 0): resin may leave it, the
+    // gap filling with air at ambient (gauge 0) pressure. A piston has no air
+    // behind it, so resin holds on to it up to its floor (-1 atm).
+    const double floor = listed ? walls[static_cast<std::size_t>(k)].pressure_floor : 0.0;
+    const double p = std::max(floor, (sum_p + (g - a_w).dot(sum_rho_r)) / sum_w);
     ps.p[w] = p;
     ps.rho[w] = eos.density(p);
     ps.vwall[w] = 2.0 * ps.v[w] - sum_v / sum_w;
@@ -73,11 +75,11 @@ void compute_fluid_pressure(const TaitEos& eos, SphParticles<D>& ps) {
 
 template std::vector<WallPressure> compute_wall_state<2>(const SphParams&, const TaitEos&,
                                                          const NeighborList<2>&,
-                                                         const std::vector<Vec<2>>&,
+                                                         const std::vector<WallKinematics<2>>&,
                                                          SphParticles<2>&);
 template std::vector<WallPressure> compute_wall_state<3>(const SphParams&, const TaitEos&,
                                                          const NeighborList<3>&,
-                                                         const std::vector<Vec<3>>&,
+                                                         const std::vector<WallKinematics<3>>&,
                                                          SphParticles<3>&);
 template void compute_fluid_pressure<2>(const TaitEos&, SphParticles<2>&);
 template void compute_fluid_pressure<3>(const TaitEos&, SphParticles<3>&);
