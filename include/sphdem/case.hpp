@@ -69,6 +69,7 @@ struct MovingWall {
   VelocityTable velocity;
   std::optional<double> pressure_limit;  // [Pa], V/P switchover
   double pressure_relax_time = 1e-3;     // [s], how fast the controller reacts
+  double adhesion_pressure = 0;          // [Pa] tension the resin takes before leaving the wall
   int line = 0;
 };
 

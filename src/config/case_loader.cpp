@@ -188,13 +188,15 @@ class WallNames {
 
 MovingWall read_moving_wall(const Value& v, int dim, WallNames& names) {
   const Map m =
-      v.map({"name", "region", "velocity_table", "pressure_limit", "pressure_relax_time"});
+      v.map({"name", "region", "velocity_table", "pressure_limit", "pressure_relax_time",
+             "adhesion_pressure"});
   MovingWall w;
   w.name = names.claim(m.require("name"));
   w.region = config::read_shape(m.require("region"), dim);
   w.velocity = read_velocity_table(m.require("velocity_table"), dim);
   if (auto x = m.get("pressure_limit")) w.pressure_limit = config::positive(*x);
   if (auto x = m.get("pressure_relax_time")) w.pressure_relax_time = config::positive(*x);
+  if (auto x = m.get("adhesion_pressure")) w.adhesion_pressure = config::non_negative(*x);
   w.line = v.line();
   return w;
 }

@@ -61,6 +61,7 @@ std::vector<WallMotion> make_wall_motions(const Case& c) {
     w.table = m.velocity;
     w.pressure_limit = m.pressure_limit.value_or(0.0);
     w.relax_time = m.pressure_relax_time;
+    w.adhesion_pressure = m.adhesion_pressure;
     out.push_back(w);
   }
   for (const SlidingWall& s : c.sliding_walls) {

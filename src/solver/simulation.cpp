@@ -21,9 +21,6 @@ Vec<D> to_vec(const Vec3a& a) {
   return v;
 }
 
-// Gauge pressure of a vacuum: the most a piston can pull on the resin.
-constexpr double kAtmosphere = 101325.0;
-
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -82,7 +79,7 @@ void Simulation<D>::compute_rates() {
   std::vector<WallKinematics<D>> kin(walls_.size());
   for (std::size_t k = 0; k < walls_.size(); ++k) {
     kin[k].accel = to_vec<D>(walls_[k].acceleration(time_));
-    kin[k].pressure_floor = walls_[k].moves ? -kAtmosphere : 0.0;
+    kin[k].pressure_floor = -walls_[k].adhesion_pressure;
   }
   const std::vector<WallPressure> face = compute_wall_state<D>(sp_, eos_, nl_, kin, ps_);
   std::vector<double> mean(face.size());

@@ -4,8 +4,8 @@
 //   rho_w = EOS^-1(P_w)
 //   v_w(no-slip) = 2 v_w - sum_f v_f W_wf / sum_f W_wf
 // A wall particle with no resin neighbor gets P = 0, rho = rho0 and its own
-// velocity. Negative wall pressures are clipped at the wall's floor: 0 for
-// fixed walls (no adhesion), -1 atm for a piston (no air gets behind it).
+// velocity. Negative wall pressures are clipped at the wall's floor: 0, or
+// minus a moving wall's adhesion_pressure.
 // The resin sees the wall through these values in the rate loop.
 #include <algorithm>
 
@@ -47,9 +47,9 @@ std::vector<WallPressure> compute_wall_state(const SphParams& sp, const TaitEos&
     }
     const bool listed = k >= 0 && static_cast<std::size_t>(k) < walls.size();
     const Vec<D> a_w = listed ? walls[static_cast<std::size_t>(k)].accel : Vec<D>::Zero();
-    // A fixed wall pushes but never pulls (floor 0): resin may leave it, the
-    // gap filling with air at ambient (gauge 0) pressure. A piston has no air
-    // behind it, so resin holds on to it up to its floor (-1 atm).
+    // A wall pushes but does not pull (floor 0): resin may leave it, the gap
+    // filling with air at ambient (gauge 0) pressure. A moving wall may hold
+    // the resin up to its adhesion pressure (floor = -adhesion_pressure).
     const double floor = listed ? walls[static_cast<std::size_t>(k)].pressure_floor : 0.0;
     const double p = std::max(floor, (sum_p + (g - a_w).dot(sum_rho_r)) / sum_w);
     ps.p[w] = p;
