@@ -21,3 +21,14 @@ if(SPHDEM_PVPYTHON)
   set_tests_properties(run_output_paraview PROPERTIES FIXTURES_REQUIRED cli_output TIMEOUT 300
                                                       LABELS "io;paraview;cli")
 endif()
+
+# The tools answer --help and draw the real run's output.
+add_test(NAME tools_help
+         COMMAND sh -c "${SPHDEM_PYTHON} ${PROJECT_SOURCE_DIR}/tools/plot_snapshot.py --help && ${SPHDEM_PYTHON} ${PROJECT_SOURCE_DIR}/tools/plate_timeline.py --help")
+set_tests_properties(tools_help PROPERTIES LABELS "tools" TIMEOUT 60)
+add_test(NAME tools_plot_run_output
+         COMMAND ${SPHDEM_PYTHON} ${PROJECT_SOURCE_DIR}/tools/plot_snapshot.py
+                 ${CMAKE_CURRENT_BINARY_DIR}/cli_work/run_out --field pressure
+                 -o ${CMAKE_CURRENT_BINARY_DIR}/cli_work/run_out_pressure.png)
+set_tests_properties(tools_plot_run_output PROPERTIES FIXTURES_REQUIRED cli_output LABELS "tools"
+                                                      TIMEOUT 120)

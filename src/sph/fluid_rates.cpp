@@ -77,6 +77,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   const double alpha_c0_h = sp.alpha * sp.c0 * sp.h;
   const double delta_h_c0 = sp.delta * sp.h * sp.c0;
   const double inv_w_dp = 1.0 / kernel.w(sp.spacing);
+  const double inv_h = 1.0 / sp.h;
+  const double kw = kernel.w(0.0) / 16.0, kf = -10.0 * kw;
   const int clump_n = sp.anti_clump_n;
   Vec<D> g;
   for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
@@ -132,7 +134,9 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
       for (int d = 0; d < D; ++d) vx += vl[d][k] * xl[d][k];
       const bool inside = r2 < support2;
       const double r = std::sqrt(r2);
-      const double F = inside ? kernel.f(r) * grad_scale : 0.0;
+      const double q = r * inv_h;
+      const double t = inside ? 2.0 - q : 0.0;
+      const double F = kf * t * t * t * inv_h * inv_h * grad_scale;
       const double m_j = ml[k];
       double drho = terms::continuity(m_j, F, vx);
       if constexpr (kDelta) {
@@ -145,7 +149,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
         bracket += terms::artificial_viscosity(alpha_c0_h, wx, r2, eta2, rho_i, rhol[k]);
       }
       if constexpr (kClump != Clump::Off) {
-        const double w_ratio = (inside ? kernel.w(r) : 0.0) * inv_w_dp;
+        const double t2 = t * t;
+        const double w_ratio = kw * t2 * t2 * (1.0 + 2.0 * q) * inv_w_dp;
         double f;
         if constexpr (kClump == Clump::N4) {
           const double w2 = w_ratio * w_ratio;
