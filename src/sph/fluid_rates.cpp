@@ -44,25 +44,23 @@ struct alignas(64) NeighborRecord {
   double fluid;  // 1 for resin, 0 for wall (delta-SPH acts between resin only)
 };
 
-// Per-pair lane arrays for one particle's list (structure of arrays, so the
-// pair-term loop runs on contiguous doubles).
+// Per-pair lane arrays for a chunk of one particle's list (structure of
+// arrays with fixed size, so the pair-term loop runs on contiguous doubles
+// at addresses the compiler can see).
+constexpr std::size_t kChunk = 64;
 template <int D>
-struct Lanes {
-  enum Field { kX = 0, kV = D, kW = 2 * D, kM = 3 * D, kRho, kVol, kPor2, kRac, kFluid, kA, kDrho = kA + D, kCount };
-  std::size_t cap = 0;
-  std::vector<double> buf;
-  void reserve(std::size_t n) {
-    if (n <= cap) return;
-    cap = (n + 7) & ~std::size_t{7};
-    buf.assign(cap * kCount, 0.0);
-  }
-  double* operator()(int field) { return buf.data() + static_cast<std::size_t>(field) * cap; }
+struct alignas(64) Lanes {
+  double x[D][kChunk];  // x_ij
+  double v[D][kChunk];  // v_i - v_j (continuity)
+  double w[D][kChunk];  // v_i - vw_j (viscous terms)
+  double m[kChunk], rho[kChunk], vol[kChunk], por2[kChunk], rac[kChunk], fluid[kChunk];
+  double a[D][kChunk];  // out: acceleration contribution
+  double drho[kChunk];  // out: density-rate contribution
 };
 
 template <int D>
 struct Scratch {
   std::vector<NeighborRecord<D>> rec;
-  Lanes<D> lanes;
 };
 
 enum class Clump { Off, N4, General };
@@ -78,106 +76,93 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   const double delta_h_c0 = sp.delta * sp.h * sp.c0;
   const double inv_w_dp = 1.0 / kernel.w(sp.spacing);
   const double inv_h = 1.0 / sp.h;
+  // Wendland C2 normalisation C: W(0) = 16 C exactly (a power of two).
   const double kw = kernel.w(0.0) / 16.0, kf = -10.0 * kw;
   const int clump_n = sp.anti_clump_n;
   Vec<D> g;
   for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
   const std::int32_t* nb = nl.indices();
   const NeighborRecord<D>* rec = s.rec.data();
-  using L = Lanes<D>;
+  Lanes<D> l;
 
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid) continue;
     const NeighborRecord<D>& ri = rec[i];
     const double rho_i = ri.rho, por2_i = ri.por2, rac_i = ri.rac;
     const double two_mu_over_rho_i = two_mu / rho_i;
-    const std::size_t b = nl.begin(i), cnt = nl.end(i) - b;
-    s.lanes.reserve(cnt);
-    double* __restrict xl[D];
-    double* __restrict vl[D];
-    double* __restrict wl[D];
-    double* __restrict al[D];
-    for (int d = 0; d < D; ++d) {
-      xl[d] = s.lanes(L::kX + d);
-      vl[d] = s.lanes(L::kV + d);
-      wl[d] = s.lanes(L::kW + d);
-      al[d] = s.lanes(L::kA + d);
-    }
-    double* __restrict ml = s.lanes(L::kM);
-    double* __restrict rhol = s.lanes(L::kRho);
-    double* __restrict voll = s.lanes(L::kVol);
-    double* __restrict por2l = s.lanes(L::kPor2);
-    double* __restrict racl = s.lanes(L::kRac);
-    double* __restrict fluidl = s.lanes(L::kFluid);
-    double* __restrict drhol = s.lanes(L::kDrho);
-
-    // 1. Gather (x_ij, v_ij, and the neighbor's scalars).
-    for (std::size_t k = 0; k < cnt; ++k) {
-      const NeighborRecord<D>& rj = rec[nb[b + k]];
-      for (int d = 0; d < D; ++d) {
-        xl[d][k] = ri.x[d] - rj.x[d];
-        vl[d][k] = ri.v[d] - rj.v[d];
-        wl[d][k] = ri.v[d] - rj.vw[d];
-      }
-      ml[k] = rj.m;
-      rhol[k] = rj.rho;
-      voll[k] = rj.vol;
-      por2l[k] = rj.por2;
-      racl[k] = rj.rac;
-      fluidl[k] = rj.fluid;
-    }
-
-    // 2. Pair terms, branch-free (vectorized).
-    for (std::size_t k = 0; k < cnt; ++k) {
-      double r2 = 0.0, vx = 0.0;
-      for (int d = 0; d < D; ++d) r2 += xl[d][k] * xl[d][k];
-      for (int d = 0; d < D; ++d) vx += vl[d][k] * xl[d][k];
-      const bool inside = r2 < support2;
-      const double r = std::sqrt(r2);
-      const double q = r * inv_h;
-      const double t = inside ? 2.0 - q : 0.0;
-      const double F = kf * t * t * t * inv_h * inv_h * grad_scale;
-      const double m_j = ml[k];
-      double drho = terms::continuity(m_j, F, vx);
-      if constexpr (kDelta) {
-        drho += fluidl[k] * terms::delta_sph(delta_h_c0, rho_i, rhol[k], voll[k], F);
-      }
-      double bracket = por2_i + por2l[k];
-      if constexpr (kArtVisc) {
-        double wx = 0.0;
-        for (int d = 0; d < D; ++d) wx += wl[d][k] * xl[d][k];
-        bracket += terms::artificial_viscosity(alpha_c0_h, wx, r2, eta2, rho_i, rhol[k]);
-      }
-      if constexpr (kClump != Clump::Off) {
-        const double t2 = t * t;
-        const double w_ratio = kw * t2 * t2 * (1.0 + 2.0 * q) * inv_w_dp;
-        double f;
-        if constexpr (kClump == Clump::N4) {
-          const double w2 = w_ratio * w_ratio;
-          f = w2 * w2;
-        } else {
-          f = terms::anti_clump_power(w_ratio, clump_n);
-        }
-        bracket += terms::anti_clump_coefficient(rac_i, racl[k], por2_i, por2l[k]) * f;
-      }
-      const double pf = m_j * bracket * F;
-      double visc = 0.0;
-      if constexpr (kVisc) {
-        visc = terms::morris_viscosity(two_mu_over_rho_i, voll[k], F, r2, eta2);
-      }
-      for (int d = 0; d < D; ++d) al[d][k] = visc * wl[d][k] - pf * xl[d][k];
-      drhol[k] = drho;
-    }
-
-    // 3. Sum in list (global-id) order.
     Vec<D> acc = Vec<D>::Zero();
-    double drho = 0.0;
-    for (std::size_t k = 0; k < cnt; ++k) {
-      for (int d = 0; d < D; ++d) acc[d] += al[d][k];
-      drho += drhol[k];
+    double drho_sum = 0.0;
+    for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
+      const std::size_t cnt = std::min(kChunk, e - b);
+
+      // 1. Gather (x_ij, v_ij, and the neighbor's scalars).
+      for (std::size_t k = 0; k < cnt; ++k) {
+        const NeighborRecord<D>& rj = rec[nb[b + k]];
+        for (int d = 0; d < D; ++d) {
+          l.x[d][k] = ri.x[d] - rj.x[d];
+          l.v[d][k] = ri.v[d] - rj.v[d];
+          l.w[d][k] = ri.v[d] - rj.vw[d];
+        }
+        l.m[k] = rj.m;
+        l.rho[k] = rj.rho;
+        l.vol[k] = rj.vol;
+        l.por2[k] = rj.por2;
+        l.rac[k] = rj.rac;
+        l.fluid[k] = rj.fluid;
+      }
+
+      // 2. Pair terms, branch-free (vectorized). Pairs beyond the support
+      // get t = 0, hence F = 0 and W = 0, and contribute exact zeros.
+      for (std::size_t k = 0; k < cnt; ++k) {
+        double r2 = 0.0, vx = 0.0;
+        for (int d = 0; d < D; ++d) r2 += l.x[d][k] * l.x[d][k];
+        for (int d = 0; d < D; ++d) vx += l.v[d][k] * l.x[d][k];
+        const bool inside = r2 < support2;
+        const double r = std::sqrt(r2);
+        const double q = r * inv_h;
+        const double t = inside ? 2.0 - q : 0.0;
+        // WendlandC2::f and ::w (kernel.hpp), same operations, without the branch.
+        const double F = kf * t * t * t * inv_h * inv_h * grad_scale;
+        const double m_j = l.m[k];
+        double drho = terms::continuity(m_j, F, vx);
+        if constexpr (kDelta) {
+          drho += l.fluid[k] * terms::delta_sph(delta_h_c0, rho_i, l.rho[k], l.vol[k], F);
+        }
+        double bracket = por2_i + l.por2[k];
+        if constexpr (kArtVisc) {
+          double wx = 0.0;
+          for (int d = 0; d < D; ++d) wx += l.w[d][k] * l.x[d][k];
+          bracket += terms::artificial_viscosity(alpha_c0_h, wx, r2, eta2, rho_i, l.rho[k]);
+        }
+        if constexpr (kClump != Clump::Off) {
+          const double t2 = t * t;
+          const double w_ratio = kw * t2 * t2 * (1.0 + 2.0 * q) * inv_w_dp;
+          double f;
+          if constexpr (kClump == Clump::N4) {
+            const double w2 = w_ratio * w_ratio;
+            f = w2 * w2;
+          } else {
+            f = terms::anti_clump_power(w_ratio, clump_n);
+          }
+          bracket += terms::anti_clump_coefficient(rac_i, l.rac[k], por2_i, l.por2[k]) * f;
+        }
+        const double pf = m_j * bracket * F;
+        double visc = 0.0;
+        if constexpr (kVisc) {
+          visc = terms::morris_viscosity(two_mu_over_rho_i, l.vol[k], F, r2, eta2);
+        }
+        for (int d = 0; d < D; ++d) l.a[d][k] = visc * l.w[d][k] - pf * l.x[d][k];
+        l.drho[k] = drho;
+      }
+
+      // 3. Sum in list (global-id) order.
+      for (std::size_t k = 0; k < cnt; ++k) {
+        for (int d = 0; d < D; ++d) acc[d] += l.a[d][k];
+        drho_sum += l.drho[k];
+      }
     }
     ps.a[i] = acc + g;
-    ps.drho[i] = drho;
+    ps.drho[i] = drho_sum;
   }
 }
 
