@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "sphdem/config.hpp"
+#include "sphdem/decomposition.hpp"
 #include "sphdem/geometry.hpp"
 #include "sphdem/halo.hpp"
 #include "sphdem/walls.hpp"
@@ -85,10 +86,15 @@ TEST(Halo, PeriodicImagesIncludingCorners) {
   ps.push_owned(1, Kind::Fluid, -1, 1, Vec<2>(0.5, 0.5), Vec<2>::Zero(), 1);    // interior
   ps.push_owned(2, Kind::Fluid, -1, 1, Vec<2>(1.02, 0.5), Vec<2>::Zero(), 1);   // outside: wraps
   Box<2> dom{Vec<2>(0, 0), Vec<2>(1, 1)};
-  Halo<2> halo;
-  halo.build(ps, dom, {true, true, false}, 0.1);
-  EXPECT_EQ(ps.n_owned, 3u);
+  const std::array<bool, 3> periodic{true, true, false};
+  // One rank: every image is a message to itself, as at any rank count.
+  const Comm self(MPI_COMM_SELF);
+  const Decomposition<2> dec(self, dom, periodic, 0.1);
+  wrap_periodic<2>(ps, dom, periodic);
   EXPECT_NEAR(ps.x[2][0], 0.02, 1e-15) << "wrapped into the box";
+  Halo<2> halo;
+  halo.build(dec, ps, 0.1);
+  EXPECT_EQ(ps.n_owned, 3u);
   // Corner particle: 3 images; wrapped particle near x = 0: 1 image.
   ASSERT_EQ(halo.size(), 4u);
   EXPECT_EQ(ps.size(), 7u);

@@ -60,7 +60,10 @@ struct OwnedSet {
   std::vector<double> position, velocity, rho, p;
 
   void fill(std::int64_t step) {
-    position.clear(), velocity.clear(), rho.clear(), p.clear();
+    position.clear();
+    velocity.clear();
+    rho.clear();
+    p.clear();
     for (std::int64_t i : id) {
       position.insert(position.end(), {pos_x(i, step), pos_y(i, step)});
       velocity.insert(velocity.end(), {vel_x(i, step), vel_y(i, step)});

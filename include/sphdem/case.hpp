@@ -88,6 +88,12 @@ struct Output {
   int progress_every = 100;
 };
 
+// Dynamic load balancing (docs/parallel.md).
+struct ParallelSettings {
+  int balance_every = 100;            // steps between imbalance checks, 0: never re-partition
+  double imbalance_threshold = 0.10;  // re-partition past max/mean - 1 of the per-rank work
+};
+
 struct Case {
   std::string name;
   std::string source_file;
@@ -104,6 +110,7 @@ struct Case {
   std::array<bool, 3> periodic{false, false, false};
   std::optional<Vec3a> domain_lo, domain_hi;  // default: mold bbox + wall layers
   Output output;
+  ParallelSettings parallel;
   // Remarks that do not stop a run (e.g. a Mach number above 0.1), for
   // `sphdem check` and the run log.
   std::vector<std::string> warnings;

@@ -10,6 +10,9 @@
 //   /<set>/position double [N][3]   (z = 0 in 2D, so ParaView sees XYZ)
 //   /<set>/<field> double [N] or [N][3] (vectors padded to 3), attribute "units"
 // Rows are ordered by global id within each set, whatever the rank count.
+// <dir>/<case>.xdmf lists every snapshot this writer wrote (Temporal
+// collection of Spatial ones, one Polyvertex grid per set with N > 0) and
+// opens in ParaView with XDMFReader or Xdmf3ReaderS.
 #include <cstddef>
 #include <cstdint>
 #include <string>

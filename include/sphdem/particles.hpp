@@ -39,7 +39,7 @@ struct SphParticles {
   std::vector<Vec<D>> vwall;   // walls: velocity seen by the viscous term (no-slip)
   std::vector<Vec<D>> a;       // acceleration [m/s^2] (owned fluid)
   std::vector<double> drho;    // density rate [kg/m^3/s] (owned fluid)
-  // Integrator scratch: half-step values (owned only).
+  // Integrator state within a step: half-step values (owned only).
   std::vector<Vec<D>> v_half;
   std::vector<double> rho_half;
 
@@ -60,8 +60,10 @@ struct SphParticles {
     f("vwall", vwall, FieldPolicy{true, false, false});
     f("a", a, FieldPolicy{false, true, true});
     f("drho", drho, FieldPolicy{false, true, true});
-    f("v_half", v_half, FieldPolicy{false, false, false});
-    f("rho_half", rho_half, FieldPolicy{false, false, false});
+    // The half-step values migrate: the neighbor rebuild (and so migration)
+    // sits between the drift and the second kick, which reads them.
+    f("v_half", v_half, FieldPolicy{false, true, false});
+    f("rho_half", rho_half, FieldPolicy{false, true, false});
   }
 
   void resize(std::size_t n) {

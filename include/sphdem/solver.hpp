@@ -14,10 +14,12 @@
 
 #include "sphdem/case.hpp"
 #include "sphdem/comm.hpp"
+#include "sphdem/decomposition.hpp"
 #include "sphdem/halo.hpp"
 #include "sphdem/neighbor.hpp"
 #include "sphdem/particles.hpp"
 #include "sphdem/sph.hpp"
+#include "sphdem/timers.hpp"
 #include "sphdem/walls.hpp"
 
 namespace sphdem {
@@ -61,13 +63,21 @@ class Simulation {
   std::int64_t global_wall_count() const { return n_wall_global_; }
   const Box<D>& domain() const { return domain_; }
   const Case& case_data() const { return case_; }
+  // Load balance (docs/parallel.md): the imbalance (max / mean - 1 of the
+  // per-rank work) at the last check, and how many re-partitions happened.
+  double last_imbalance() const { return last_imbalance_; }
+  std::int64_t repartitions() const { return repartitions_; }
+  const Decomposition<D>& decomposition() const { return dec_; }
+  const PhaseTimers& timers() const { return timers_; }
 
   // Writes a snapshot now (collective); returns its path.
   std::string write_snapshot();
 
  private:
   void rebuild_neighbors();
+  void maybe_rebalance();
   void compute_rates();
+  std::vector<double> face_means(const std::vector<WallFaceSample>& face);
   void do_step();
   void check_health() const;
   void set_wall_velocities(double t);
@@ -90,6 +100,11 @@ class Simulation {
   std::int64_t n_fluid_global_ = 0, n_wall_global_ = 0;
   double next_output_time_ = 0;
   std::int64_t snapshots_ = 0;
+  Decomposition<D> dec_;
+  mutable PhaseTimers timers_;  // instrumentation, also of const methods
+  std::int64_t last_balance_step_ = 0;
+  double last_imbalance_ = 0;
+  std::int64_t repartitions_ = 0;
 };
 
 }  // namespace sphdem

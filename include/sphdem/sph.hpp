@@ -3,6 +3,7 @@
 // lives in its own header under src/sph/terms/; the loops that visit the
 // neighbor lists are here (fluid_rates.cpp, wall_boundary.cpp). Nothing in
 // this module knows about ranks: it reads ghosts and writes owned particles.
+#include <cstdint>
 #include <vector>
 
 #include "sphdem/case.hpp"
@@ -47,10 +48,14 @@ double viscous_lattice_correction(int dimension, double h_over_spacing);
 template <int D>
 void compute_fluid_pressure(const TaitEos& eos, SphParticles<D>& ps);
 
-// Per-wall sums of the extrapolated face pressure (walls that touch resin).
-struct WallPressure {
-  double sum = 0;
-  double count = 0;
+// The extrapolated pressure of one owned wall particle that touches resin
+// and belongs to a listed (moving or sliding) wall. The solver averages
+// them per wall over all ranks, adding them in global-id order so that the
+// mean does not depend on the rank count.
+struct WallFaceSample {
+  std::int64_t gid = 0;
+  std::int32_t wall = 0;
+  double p = 0;
 };
 
 // What the wall extrapolation needs to know of moving or sliding wall k.
@@ -63,12 +68,12 @@ struct WallKinematics {
 // Dummy-particle walls (Adami, Hu & Adams 2012): every owned wall particle
 // takes pressure, density and a no-slip velocity from its resin neighbors.
 // Fixed walls (index -1) have a pressure floor of 0. Returns the face
-// pressure sums per wall (indexed like `walls`).
+// pressure samples of the walls listed in `walls`, in local order.
 template <int D>
-std::vector<WallPressure> compute_wall_state(const SphParams& sp, const TaitEos& eos,
-                                             const NeighborList<D>& nl,
-                                             const std::vector<WallKinematics<D>>& walls,
-                                             SphParticles<D>& ps);
+std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEos& eos,
+                                               const NeighborList<D>& nl,
+                                               const std::vector<WallKinematics<D>>& walls,
+                                               SphParticles<D>& ps);
 
 // Continuity (paper Eq. 3, + optional delta-SPH) and momentum (paper Eq. 5
 // with the sign corrected: pressure, artificial viscosity, anti-clump,

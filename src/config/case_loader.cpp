@@ -268,6 +268,15 @@ Output read_output(const std::optional<Value>& v, const Case& c) {
   return o;
 }
 
+ParallelSettings read_parallel(const std::optional<Value>& v) {
+  ParallelSettings p;
+  if (!v) return p;
+  const Map m = v->map({"balance_every", "imbalance_threshold"});
+  if (auto x = m.get("balance_every")) p.balance_every = config::integer_at_least(*x, 0);
+  if (auto x = m.get("imbalance_threshold")) p.imbalance_threshold = config::non_negative(*x);
+  return p;
+}
+
 void check_fill_inside_mold(const Case& c, const Source& src) {
   for (const Shape& f : c.fill) {
     if (auto p = config::point_outside(f, c.mold.shapes, c.dimension)) {
@@ -297,10 +306,9 @@ void warn_mach(Case& c) {
 }
 
 Case read_case(const Value& root, const Source& src) {
-  const Map top =
-      root.map({"name", "dimension", "resin", "numerics", "mold", "fill", "moving_walls",
-                "sliding_walls", "body_force", "initial_velocity", "periodic", "domain",
-                "output"});
+  const Map top = root.map({"name", "dimension", "resin", "numerics", "mold", "fill",
+                            "moving_walls", "sliding_walls", "body_force", "initial_velocity",
+                            "periodic", "domain", "output", "parallel"});
   Case c;
   c.dimension = read_dimension(top.require("dimension"));
   const std::optional<Value> name = top.get("name");
@@ -314,6 +322,7 @@ Case read_case(const Value& root, const Source& src) {
   if (auto x = top.get("initial_velocity")) c.initial_velocity = x->vector(c.dimension);
   read_periodic(top, c);
   c.output = read_output(top.get("output"), c);
+  c.parallel = read_parallel(top.get("parallel"));
   check_fill_inside_mold(c, src);
   warn_mach(c);
   return c;

@@ -97,8 +97,15 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
             if ((xi - ps.x[j]).squaredNorm() < rc2) index_.push_back(j);
           }
         }
+    // Two periodic images of one particle share a gid (a period shorter
+    // than two cut-offs): their position breaks the tie, so the order never
+    // depends on where the images sit in memory.
     std::sort(index_.begin() + static_cast<std::ptrdiff_t>(first), index_.end(),
-              [&](std::int32_t a, std::int32_t b) { return ps.gid[a] < ps.gid[b]; });
+              [&](std::int32_t a, std::int32_t b) {
+                if (ps.gid[a] != ps.gid[b]) return ps.gid[a] < ps.gid[b];
+                return std::lexicographical_compare(ps.x[a].begin(), ps.x[a].end(), ps.x[b].begin(),
+                                                    ps.x[b].end());
+              });
     offset_[i + 1] = index_.size();
   }
   x_at_build_.assign(ps.x.begin(), ps.x.begin() + static_cast<std::ptrdiff_t>(n_own));

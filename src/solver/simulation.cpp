@@ -8,6 +8,7 @@
 #include "sphdem/errors.hpp"
 #include "sphdem/geometry.hpp"
 #include "sphdem/io.hpp"
+#include "sphdem/ordered_sum.hpp"
 #include "sphdem/solver.hpp"
 #include "snapshot_fields.hpp"
 
@@ -35,16 +36,16 @@ Simulation<D>::Simulation(const Case& c, const Comm& comm, RunOptions opt)
       eos_(c.resin.density, c.resin.sound_speed, c.resin.gamma),
       domain_(simulation_domain<D>(c)),
       nl_(2.0 * c.h(), c.numerics.neighbor_skin * 2.0 * c.h()),
-      walls_(make_wall_motions(c)) {
-  if (comm_.size() > 1) {
-    throw InputError(c.source_file, 0, "",
-                     "this build runs on one rank only: the METIS decomposition is not "
-                     "implemented yet (run with mpirun -n 1)");
-  }
+      walls_(make_wall_motions(c)),
+      dec_(comm, domain_, c.periodic, nl_.cutoff()) {
   const InitialCounts counts = build_initial_particles<D>(c, ps_);
   n_fluid_global_ = static_cast<std::int64_t>(counts.fluid);
   n_wall_global_ = static_cast<std::int64_t>(counts.wall);
   if (opt_.output_dir.empty()) opt_.output_dir = c.output.directory;
+  // Every rank built every particle: partition their work, keep our share.
+  dec_.partition(dec_.cell_work(ps_, ps_.n_owned), /*replicated=*/true);
+  dec_.keep_owned(ps_);
+  last_imbalance_ = dec_.imbalance(ps_);
   set_wall_velocities(0.0);
   rebuild_neighbors();
   compute_rates();
@@ -64,38 +65,101 @@ void Simulation<D>::set_wall_velocities(double t) {
   }
 }
 
+// Migration, halo and lists are rebuilt together: the halo plan and the
+// lists index the particles that migration rearranges.
 template <int D>
 void Simulation<D>::rebuild_neighbors() {
+  // Wrap first: a particle's owner is the owner of the cell it lies in.
+  wrap_periodic<D>(ps_, domain_, case_.periodic);
+  {
+    ScopedPhase t(timers_, Phase::Migration);
+    migrate<D>(dec_, ps_);
+  }
+  maybe_rebalance();
   sort_by_cell<D>(ps_, nl_.cutoff());
-  halo_.build(ps_, domain_, case_.periodic, nl_.cutoff());
+  {
+    ScopedPhase t(timers_, Phase::Halo);
+    halo_.build(dec_, ps_, nl_.cutoff());
+  }
   nl_.build(ps_);
   check_health();
 }
 
+// The work per rank changes only when particles migrate, so the imbalance is
+// measured right after a migration, at most once per balance_every steps.
+// Re-partitioning only at a rebuild the step needs anyway (never forcing an
+// extra one) keeps the rebuild steps, where periodic positions wrap, the
+// same at every rank count; the gather in global-id order does the rest.
+template <int D>
+void Simulation<D>::maybe_rebalance() {
+  const int every = case_.parallel.balance_every;
+  if (every <= 0 || step_ - last_balance_step_ < every) return;
+  ScopedPhase t(timers_, Phase::Rebalance);
+  last_balance_step_ = step_;
+  const double before = dec_.imbalance(ps_);
+  last_imbalance_ = before;
+  if (!(before > case_.parallel.imbalance_threshold)) return;
+  dec_.partition(dec_.cell_work(ps_, ps_.n_owned), /*replicated=*/false);
+  const MigrationCounts moved = migrate<D>(dec_, ps_);
+  last_imbalance_ = dec_.imbalance(ps_);
+  ++repartitions_;
+  const std::int64_t total_moved = comm_.sum(static_cast<std::int64_t>(moved.sent));
+  if (opt_.log && comm_.root()) {
+    *opt_.log << fmt::format(
+                     "step {}: re-partitioned over {} ranks: imbalance {:.1f} % -> {:.1f} %, {} "
+                     "particles moved\n",
+                     step_, comm_.size(), 100 * before, 100 * last_imbalance_, total_moved)
+              << std::flush;
+  }
+}
+
+// Mean face pressure per wall over all ranks (NaN for a wall touching no
+// resin), summed in global-id order: bitwise the same at every rank count.
+template <int D>
+std::vector<double> Simulation<D>::face_means(const std::vector<WallFaceSample>& face) {
+  if (walls_.empty()) return {};
+  ScopedPhase t(timers_, Phase::Wait);
+  std::vector<OrderedTerm> terms;
+  terms.reserve(face.size());
+  for (const WallFaceSample& f : face) terms.push_back({f.gid, f.wall, f.p});
+  const std::vector<KeySum> sums = ordered_sums(comm_, terms, walls_.size());
+  std::vector<double> mean(sums.size());
+  for (std::size_t k = 0; k < sums.size(); ++k) {
+    mean[k] = sums[k].count > 0 ? sums[k].sum / static_cast<double>(sums[k].count) : std::nan("");
+  }
+  return mean;
+}
+
 template <int D>
 void Simulation<D>::compute_rates() {
-  halo_.update_state(ps_);
+  {
+    ScopedPhase t(timers_, Phase::Halo);
+    halo_.update_state(ps_);
+  }
   compute_fluid_pressure<D>(eos_, ps_);
   std::vector<WallKinematics<D>> kin(walls_.size());
   for (std::size_t k = 0; k < walls_.size(); ++k) {
     kin[k].accel = to_vec<D>(walls_[k].acceleration(time_));
     kin[k].pressure_floor = -walls_[k].adhesion_pressure;
   }
-  const std::vector<WallPressure> face = compute_wall_state<D>(sp_, eos_, nl_, kin, ps_);
-  std::vector<double> mean(face.size());
-  for (std::size_t k = 0; k < face.size(); ++k) {
-    const double count = comm_.sum(face[k].count);
-    mean[k] = count > 0 ? comm_.sum(face[k].sum) / count : std::nan("");
+  const std::vector<WallFaceSample> face = compute_wall_state<D>(sp_, eos_, nl_, kin, ps_);
+  update_wall_controllers(walls_, face_means(face), dt_.dt);
+  {
+    ScopedPhase t(timers_, Phase::Halo);
+    halo_.update_wall_state(ps_);
   }
-  update_wall_controllers(walls_, mean, dt_.dt);
-  halo_.update_wall_state(ps_);
   compute_fluid_rates<D>(sp_, nl_, ps_);
 }
 
 template <int D>
 void Simulation<D>::do_step() {
   const LocalExtremes ex = local_extremes<D>(ps_);
-  const double v_max = comm_.max(ex.v_max), a_max = comm_.max(ex.a_max);
+  double v_max = 0, a_max = 0;
+  {
+    ScopedPhase t(timers_, Phase::Wait);
+    v_max = comm_.max(ex.v_max);
+    a_max = comm_.max(ex.a_max);
+  }
   if (!std::isfinite(v_max) || !std::isfinite(a_max)) {
     throw SimulationError(fmt::format("the resin blew up at step {} (t = {:.6g} s): a velocity "
                                       "or acceleration is not finite",
@@ -126,7 +190,13 @@ void Simulation<D>::do_step() {
   ++step_;
   set_wall_velocities(time_);
 
-  if (comm_.any(nl_.needs_rebuild(ps_))) rebuild_neighbors();
+  const bool moved = nl_.needs_rebuild(ps_);
+  bool rebuild = false;
+  {
+    ScopedPhase t(timers_, Phase::Wait);
+    rebuild = comm_.any(moved);
+  }
+  if (rebuild) rebuild_neighbors();
   compute_rates();
   for (std::size_t i = 0; i < ps_.n_owned; ++i) {
     if (ps_.kind[i] == Kind::Fluid) {
@@ -157,7 +227,12 @@ void Simulation<D>::check_health() const {
       }
     }
   }
-  if (comm_.any(bad)) {
+  bool any_bad = false;
+  {
+    ScopedPhase t(timers_, Phase::Wait);
+    any_bad = comm_.any(bad);
+  }
+  if (any_bad) {
     throw SimulationError(fmt::format("step {} (t = {:.6g} s): {}", step_, time_,
                                       what.empty() ? "a particle on another rank failed" : what));
   }
@@ -170,6 +245,7 @@ void Simulation<D>::advance(std::int64_t n) {
 
 template <int D>
 std::string Simulation<D>::write_snapshot() {
+  ScopedPhase t(timers_, Phase::Io);
   if (!writer_) {
     std::filesystem::create_directories(opt_.output_dir);
     writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name);
@@ -212,6 +288,7 @@ void Simulation<D>::report_progress(double elapsed, std::int64_t steps_done, boo
 template <int D>
 RunSummary Simulation<D>::run() {
   const auto t0 = std::chrono::steady_clock::now();
+  timers_.reset();
   const double end = case_.numerics.end_time;
   const double every_t = case_.output.every_time.value_or(0.0);
   const std::int64_t every_s = case_.output.every_steps.value_or(0);
@@ -244,6 +321,8 @@ RunSummary Simulation<D>::run() {
       s.wall_seconds > 0 ? static_cast<double>(n_fluid_global_) * s.steps / s.wall_seconds : 0;
   report_progress(s.wall_seconds, s.steps, true);
   s.snapshots = snapshots_;
+  report_timings(comm_, timers_, s.wall_seconds, opt_.log,
+                 opt_.write_output ? opt_.output_dir : std::string());
   return s;
 }
 

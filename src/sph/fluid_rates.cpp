@@ -14,6 +14,7 @@
 // The neighbor list is sorted by global id, and step 3 is a plain
 // sequential sum in that order, so the result still does not depend on
 // the particle layout or the rank count.
+#include <algorithm>
 #include <cmath>
 
 #include "sphdem/sph.hpp"
@@ -169,23 +170,30 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
 template <int D, bool V, bool A, Clump C>
 void dispatch_delta(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
                     Scratch<D>& s) {
-  if (sp.delta > 0) rates_loop<D, V, A, C, true>(sp, nl, ps, s);
-  else rates_loop<D, V, A, C, false>(sp, nl, ps, s);
+  if (sp.delta > 0)
+    rates_loop<D, V, A, C, true>(sp, nl, ps, s);
+  else
+    rates_loop<D, V, A, C, false>(sp, nl, ps, s);
 }
 
 template <int D, bool V, bool A>
 void dispatch_clump(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
                     Scratch<D>& s) {
-  if (!sp.anti_clump) dispatch_delta<D, V, A, Clump::Off>(sp, nl, ps, s);
-  else if (sp.anti_clump_n == 4) dispatch_delta<D, V, A, Clump::N4>(sp, nl, ps, s);
-  else dispatch_delta<D, V, A, Clump::General>(sp, nl, ps, s);
+  if (!sp.anti_clump)
+    dispatch_delta<D, V, A, Clump::Off>(sp, nl, ps, s);
+  else if (sp.anti_clump_n == 4)
+    dispatch_delta<D, V, A, Clump::N4>(sp, nl, ps, s);
+  else
+    dispatch_delta<D, V, A, Clump::General>(sp, nl, ps, s);
 }
 
 template <int D, bool V>
 void dispatch_art(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
                   Scratch<D>& s) {
-  if (sp.alpha > 0) dispatch_clump<D, V, true>(sp, nl, ps, s);
-  else dispatch_clump<D, V, false>(sp, nl, ps, s);
+  if (sp.alpha > 0)
+    dispatch_clump<D, V, true>(sp, nl, ps, s);
+  else
+    dispatch_clump<D, V, false>(sp, nl, ps, s);
 }
 
 }  // namespace
@@ -209,8 +217,10 @@ void compute_fluid_rates(const SphParams& sp, const NeighborList<D>& nl, SphPart
     r.rac = terms::anti_clump_r(sp.anti_clump_eps, r.por2);
     r.fluid = ps.kind[i] == Kind::Fluid ? 1.0 : 0.0;
   }
-  if (sp.mu > 0) dispatch_art<D, true>(sp, nl, ps, s);
-  else dispatch_art<D, false>(sp, nl, ps, s);
+  if (sp.mu > 0)
+    dispatch_art<D, true>(sp, nl, ps, s);
+  else
+    dispatch_art<D, false>(sp, nl, ps, s);
 }
 
 template void compute_fluid_rates<2>(const SphParams&, const NeighborList<2>&, SphParticles<2>&);

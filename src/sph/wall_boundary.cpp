@@ -14,14 +14,14 @@
 namespace sphdem {
 
 template <int D>
-std::vector<WallPressure> compute_wall_state(const SphParams& sp, const TaitEos& eos,
-                                             const NeighborList<D>& nl,
-                                             const std::vector<WallKinematics<D>>& walls,
-                                             SphParticles<D>& ps) {
+std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEos& eos,
+                                               const NeighborList<D>& nl,
+                                               const std::vector<WallKinematics<D>>& walls,
+                                               SphParticles<D>& ps) {
   const WendlandC2<D> kernel(sp.h);
   Vec<D> g;
   for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
-  std::vector<WallPressure> face(walls.size());
+  std::vector<WallFaceSample> face;
   const std::int32_t* nb = nl.indices();
   for (std::size_t w = 0; w < ps.n_owned; ++w) {
     if (ps.kind[w] != Kind::Wall) continue;
@@ -55,10 +55,7 @@ std::vector<WallPressure> compute_wall_state(const SphParams& sp, const TaitEos&
     ps.p[w] = p;
     ps.rho[w] = eos.density(p);
     ps.vwall[w] = 2.0 * ps.v[w] - sum_v / sum_w;
-    if (k >= 0 && static_cast<std::size_t>(k) < face.size()) {
-      face[static_cast<std::size_t>(k)].sum += p;
-      face[static_cast<std::size_t>(k)].count += 1.0;
-    }
+    if (listed) face.push_back({ps.gid[w], k, p});
   }
   return face;
 }
@@ -73,14 +70,14 @@ void compute_fluid_pressure(const TaitEos& eos, SphParticles<D>& ps) {
   }
 }
 
-template std::vector<WallPressure> compute_wall_state<2>(const SphParams&, const TaitEos&,
-                                                         const NeighborList<2>&,
-                                                         const std::vector<WallKinematics<2>>&,
-                                                         SphParticles<2>&);
-template std::vector<WallPressure> compute_wall_state<3>(const SphParams&, const TaitEos&,
-                                                         const NeighborList<3>&,
-                                                         const std::vector<WallKinematics<3>>&,
-                                                         SphParticles<3>&);
+template std::vector<WallFaceSample> compute_wall_state<2>(const SphParams&, const TaitEos&,
+                                                           const NeighborList<2>&,
+                                                           const std::vector<WallKinematics<2>>&,
+                                                           SphParticles<2>&);
+template std::vector<WallFaceSample> compute_wall_state<3>(const SphParams&, const TaitEos&,
+                                                           const NeighborList<3>&,
+                                                           const std::vector<WallKinematics<3>>&,
+                                                           SphParticles<3>&);
 template void compute_fluid_pressure<2>(const TaitEos&, SphParticles<2>&);
 template void compute_fluid_pressure<3>(const TaitEos&, SphParticles<3>&);
 

@@ -5,6 +5,8 @@
 // The rate loop passes the dot product vx = v_ij . x_ij.
 namespace sphdem::terms {
 
-inline double continuity(double m_j, double F, double vx) { return m_j * F * vx; }
+inline double continuity(double m_j, double F, double vx) {
+  return m_j * F * vx;
+}
 
 }  // namespace sphdem::terms

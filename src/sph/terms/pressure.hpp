@@ -6,6 +6,8 @@
 // and anti_clump.hpp R_ij. The caller multiplies the bracket by -m_j F x_ij.
 namespace sphdem::terms {
 
-inline double pressure_over_rho2(double p, double rho) { return p / (rho * rho); }
+inline double pressure_over_rho2(double p, double rho) {
+  return p / (rho * rho);
+}
 
 }  // namespace sphdem::terms

@@ -1,0 +1,309 @@
+// Cell grid, METIS partition of the cell graph, relabelling, and the
+// broadcast of the cell -> rank map.
+#include "decomposition.hpp"
+
+#include <metis.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+#include "sphdem/decomposition.hpp"
+
+namespace sphdem {
+
+namespace detail {
+
+Graph induced_graph(const std::vector<long>& cells, const CellNeighbors& neighbors) {
+  Graph g;
+  g.xadj.reserve(cells.size() + 1);
+  long nb[26];
+  for (long c : cells) {
+    const int n = neighbors(c, nb);
+    for (int k = 0; k < n; ++k) {
+      const auto it = std::lower_bound(cells.begin(), cells.end(), nb[k]);
+      if (it != cells.end() && *it == nb[k]) {
+        g.adjncy.push_back(static_cast<std::int32_t>(it - cells.begin()));
+      }
+    }
+    g.xadj.push_back(static_cast<std::int32_t>(g.adjncy.size()));
+  }
+  return g;
+}
+
+namespace {
+// METIS sums vertex weights in idx_t (32 bits here): keep the sum below 2^30.
+std::vector<idx_t> metis_weights(const std::vector<std::int64_t>& weight) {
+  const std::int64_t total = std::accumulate(weight.begin(), weight.end(), std::int64_t{0});
+  const std::int64_t limit = std::int64_t{1} << 30;
+  const std::int64_t divisor = total > limit ? total / limit + 1 : 1;
+  std::vector<idx_t> out(weight.size());
+  for (std::size_t v = 0; v < weight.size(); ++v) {
+    out[v] = static_cast<idx_t>(std::max<std::int64_t>(1, weight[v] / divisor));
+  }
+  return out;
+}
+}  // namespace
+
+std::vector<int> partition_graph(const Graph& g, const std::vector<std::int64_t>& weight,
+                                 int parts) {
+  idx_t nvtxs = g.vertices();
+  std::vector<int> part(static_cast<std::size_t>(nvtxs), 0);
+  if (parts <= 1) return part;
+  if (nvtxs <= parts) {
+    std::iota(part.begin(), part.end(), 0);
+    return part;
+  }
+  std::vector<idx_t> xadj(g.xadj.begin(), g.xadj.end());
+  std::vector<idx_t> adjncy(g.adjncy.begin(), g.adjncy.end());
+  adjncy.push_back(0);  // METIS reads adjncy even for a graph without edges
+  std::vector<idx_t> vwgt = metis_weights(weight);
+  std::vector<idx_t> result(static_cast<std::size_t>(nvtxs), 0);
+  idx_t options[METIS_NOPTIONS];
+  METIS_SetDefaultOptions(options);
+  options[METIS_OPTION_UFACTOR] = 30;  // 3 % imbalance, METIS's k-way default, stated
+  idx_t ncon = 1, nparts = parts, objval = 0;
+  const int rc =
+      METIS_PartGraphKway(&nvtxs, &ncon, xadj.data(), adjncy.data(), vwgt.data(), nullptr, nullptr,
+                          &nparts, nullptr, nullptr, options, &objval, result.data());
+  if (rc != METIS_OK) {
+    throw std::runtime_error("sphdem: METIS_PartGraphKway failed (code " + std::to_string(rc) +
+                             ") on " + std::to_string(nvtxs) + " cells");
+  }
+  std::copy(result.begin(), result.end(), part.begin());
+  return part;
+}
+
+void attach_empty_cells(std::vector<int>& owner, const CellNeighbors& neighbors) {
+  std::deque<long> queue;
+  for (std::size_t c = 0; c < owner.size(); ++c) {
+    if (owner[c] >= 0) queue.push_back(static_cast<long>(c));
+  }
+  long nb[26];
+  while (!queue.empty()) {
+    const long c = queue.front();
+    queue.pop_front();
+    const int n = neighbors(c, nb);
+    for (int k = 0; k < n; ++k) {
+      int& o = owner[static_cast<std::size_t>(nb[k])];
+      if (o >= 0) continue;
+      o = owner[static_cast<std::size_t>(c)];
+      queue.push_back(nb[k]);
+    }
+  }
+  for (int& o : owner) o = std::max(o, 0);
+}
+
+std::vector<int> relabel_parts(const std::vector<int>& old, const std::vector<int>& fresh,
+                               const std::vector<std::int64_t>& work, int parts) {
+  // Overlaps as a sparse list: a dense parts x parts matrix would not fit
+  // rank 0's memory at tens of thousands of ranks.
+  std::vector<std::tuple<int, int, std::int64_t>> pairs;  // old, new, work
+  pairs.reserve(fresh.size());
+  for (std::size_t c = 0; c < fresh.size(); ++c) {
+    if (work[c] > 0) pairs.emplace_back(old[c], fresh[c], work[c]);
+  }
+  std::sort(pairs.begin(), pairs.end());
+  std::vector<std::tuple<std::int64_t, int, int>> overlap;  // -work, old, new
+  for (const auto& [o, n, w] : pairs) {
+    if (!overlap.empty() && std::get<1>(overlap.back()) == o && std::get<2>(overlap.back()) == n)
+      std::get<0>(overlap.back()) -= w;
+    else
+      overlap.emplace_back(-w, o, n);
+  }
+  std::sort(overlap.begin(), overlap.end());  // largest overlap first, ties by rank
+  const auto p = static_cast<std::size_t>(parts);
+  std::vector<int> rank_of_part(p, -1);
+  std::vector<bool> rank_taken(p, false);
+  for (const auto& [w, o, n] : overlap) {
+    const auto un = static_cast<std::size_t>(n), uo = static_cast<std::size_t>(o);
+    if (rank_of_part[un] >= 0 || rank_taken[uo]) continue;
+    rank_of_part[un] = o;
+    rank_taken[uo] = true;
+  }
+  std::size_t next = 0;
+  for (int& r : rank_of_part) {
+    if (r >= 0) continue;
+    while (rank_taken[next]) ++next;
+    r = static_cast<int>(next);
+    rank_taken[next] = true;
+  }
+  std::vector<int> out(fresh.size());
+  for (std::size_t c = 0; c < fresh.size(); ++c) {
+    out[c] = rank_of_part[static_cast<std::size_t>(fresh[c])];
+  }
+  return out;
+}
+
+}  // namespace detail
+
+// ---------------------------------------------------------------- CellGrid
+
+template <int D>
+CellGrid<D>::CellGrid(const Box<D>& box, const std::array<bool, 3>& periodic, double min_cell)
+    : box_(box), periodic_(periodic) {
+  for (int k = 0; k < D; ++k) {
+    const double len = box.hi[k] - box.lo[k];
+    n_[static_cast<std::size_t>(k)] = std::max(1L, static_cast<long>(std::floor(len / min_cell)));
+    size_[k] = len / static_cast<double>(n_[static_cast<std::size_t>(k)]);
+  }
+  for (int k = D; k < 3; ++k) periodic_[static_cast<std::size_t>(k)] = false;
+}
+
+template <int D>
+typename CellGrid<D>::Coords CellGrid<D>::coords(const Vec<D>& x) const {
+  Coords c{0, 0, 0};
+  for (int k = 0; k < D; ++k) {
+    const auto uk = static_cast<std::size_t>(k);
+    const double f = std::floor((x[k] - box_.lo[k]) / size_[k]);
+    // Clamp in floating point first: a far-away or non-finite position must
+    // not overflow the conversion.
+    c[uk] = std::isfinite(f) ? static_cast<long>(std::clamp(f, 0.0, double(n_[uk] - 1))) : 0;
+  }
+  return c;
+}
+
+template <int D>
+typename CellGrid<D>::Coords CellGrid<D>::coords_of(long cell) const {
+  return {cell % n_[0], (cell / n_[0]) % n_[1], cell / (n_[0] * n_[1])};
+}
+
+template <int D>
+int CellGrid<D>::neighbors(long cell, std::array<long, 26>& out) const {
+  const Coords c = coords_of(cell);
+  int count = 0;
+  const long z_range = D == 3 ? 1 : 0;
+  for (long dz = -z_range; dz <= z_range; ++dz)
+    for (long dy = -1; dy <= 1; ++dy)
+      for (long dx = -1; dx <= 1; ++dx) {
+        const Coords o{dx, dy, dz};
+        Coords m{0, 0, 0};
+        bool inside = true;
+        for (std::size_t k = 0; k < 3; ++k) {
+          m[k] = c[k] + o[k];
+          if (m[k] >= 0 && m[k] < n_[k]) continue;
+          if (!periodic_[k]) inside = false;
+          m[k] = (m[k] + n_[k]) % n_[k];
+        }
+        const long id = index(m);
+        if (!inside || id == cell) continue;
+        // With one or two cells along a periodic axis, offsets alias.
+        if (std::find(out.begin(), out.begin() + count, id) != out.begin() + count) continue;
+        out[static_cast<std::size_t>(count++)] = id;
+      }
+  return count;
+}
+
+// ----------------------------------------------------------- Decomposition
+
+template <int D>
+Decomposition<D>::Decomposition(const Comm& comm, const Box<D>& domain,
+                                const std::array<bool, 3>& periodic, double min_cell)
+    : comm_(comm),
+      grid_(domain, periodic, min_cell),
+      owner_(static_cast<std::size_t>(grid_.cells()), 0) {}
+
+template <int D>
+std::vector<std::int64_t> Decomposition<D>::cell_work(const SphParticles<D>& ps,
+                                                      std::size_t n) const {
+  std::vector<std::int64_t> work(static_cast<std::size_t>(grid_.cells()), 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    work[static_cast<std::size_t>(grid_.cell_of(ps.x[i]))] += particle_work(ps, i);
+  }
+  return work;
+}
+
+namespace {
+
+template <int D>
+detail::CellNeighbors neighbor_function(const CellGrid<D>& grid) {
+  return [&grid](long cell, long* out) {
+    std::array<long, 26> nb;
+    const int n = grid.neighbors(cell, nb);
+    std::copy_n(nb.begin(), n, out);
+    return n;
+  };
+}
+
+// Rank 0's part of partition(): the new cell -> rank map.
+template <int D>
+std::vector<int> compute_owners(const CellGrid<D>& grid, const std::vector<std::int64_t>& work,
+                                const std::vector<int>& old, bool relabel, int parts) {
+  std::vector<long> cells;
+  std::vector<std::int64_t> weight;
+  for (std::size_t c = 0; c < work.size(); ++c) {
+    if (work[c] <= 0) continue;
+    cells.push_back(static_cast<long>(c));
+    weight.push_back(work[c]);
+  }
+  const detail::CellNeighbors nb = neighbor_function(grid);
+  const std::vector<int> part =
+      detail::partition_graph(detail::induced_graph(cells, nb), weight, parts);
+  std::vector<int> owner(work.size(), -1);
+  for (std::size_t v = 0; v < cells.size(); ++v)
+    owner[static_cast<std::size_t>(cells[v])] = part[v];
+  detail::attach_empty_cells(owner, nb);
+  return relabel ? detail::relabel_parts(old, owner, work, parts) : owner;
+}
+
+}  // namespace
+
+template <int D>
+void Decomposition<D>::partition(const std::vector<std::int64_t>& work, bool replicated) {
+  if (comm_.size() == 1) return;
+  std::vector<std::int64_t> total(work.size(), 0);
+  const int count = static_cast<int>(work.size());
+  if (replicated) {
+    total = work;
+  } else {
+    MPI_Reduce(work.data(), total.data(), count, MPI_INT64_T, MPI_SUM, 0, comm_.raw());
+  }
+  // Rank 0 partitions; an error there must reach every rank, which would
+  // otherwise wait in the broadcast forever.
+  std::string error;
+  if (comm_.root()) {
+    try {
+      owner_ = compute_owners(grid_, total, owner_, partitioned_, comm_.size());
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+  }
+  int failed = error.empty() ? 0 : 1;
+  MPI_Bcast(&failed, 1, MPI_INT, 0, comm_.raw());
+  if (failed) throw std::runtime_error(comm_.root() ? error : "sphdem: partitioning failed");
+  MPI_Bcast(owner_.data(), static_cast<int>(owner_.size()), MPI_INT, 0, comm_.raw());
+  partitioned_ = true;
+}
+
+template <int D>
+double Decomposition<D>::imbalance(const SphParticles<D>& ps) const {
+  std::int64_t mine = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) mine += particle_work(ps, i);
+  const std::int64_t most = comm_.max(mine), total = comm_.sum(mine);
+  if (total == 0) return 0.0;
+  return static_cast<double>(most) * comm_.size() / static_cast<double>(total) - 1.0;
+}
+
+template <int D>
+void Decomposition<D>::keep_owned(SphParticles<D>& ps) const {
+  ps.clear_ghosts();
+  std::vector<std::size_t> keep;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (owner(ps.x[i]) == comm_.rank()) keep.push_back(i);
+  }
+  ps.permute_owned(keep);
+  ps.resize(keep.size());
+  ps.n_owned = keep.size();
+}
+
+template class CellGrid<2>;
+template class CellGrid<3>;
+template class Decomposition<2>;
+template class Decomposition<3>;
+
+}  // namespace sphdem

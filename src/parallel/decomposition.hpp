@@ -1,0 +1,43 @@
+#pragma once
+// The serial steps of a (re)partition, run on rank 0 only (decomposition.cpp
+// broadcasts the result). Separate functions so tests can check each.
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace sphdem::detail {
+
+// A graph in compressed rows (the METIS layout): the neighbors of vertex v
+// are adjncy[xadj[v] .. xadj[v+1]).
+struct Graph {
+  std::vector<std::int32_t> xadj{0};
+  std::vector<std::int32_t> adjncy;
+  std::int32_t vertices() const { return static_cast<std::int32_t>(xadj.size()) - 1; }
+};
+
+// Neighbors of a cell of the full grid: writes them to `out`, returns count.
+using CellNeighbors = std::function<int(long cell, long* out)>;
+
+// The subgraph of the cell graph induced by `cells` (sorted cell indices).
+Graph induced_graph(const std::vector<long>& cells, const CellNeighbors& neighbors);
+
+// METIS k-way partition of `g` with vertex weights `weight` into `parts`
+// parts (weights scaled down if their sum would overflow METIS's 32-bit
+// integers). Fewer vertices than parts: vertex v goes to part v. Throws
+// std::runtime_error when METIS fails.
+std::vector<int> partition_graph(const Graph& g, const std::vector<std::int64_t>& weight,
+                                 int parts);
+
+// Owners for every cell: `owner` holds the part of the partitioned cells and
+// -1 elsewhere; a breadth-first search from the partitioned cells (in cell
+// order) gives each other cell the part of its nearest partitioned cell.
+// Cells that no partitioned cell reaches go to part 0.
+void attach_empty_cells(std::vector<int>& owner, const CellNeighbors& neighbors);
+
+// Renames the parts of `fresh` so that as much work as possible keeps its
+// rank from `old`: greedy on the overlap (old rank, new part) -> work, the
+// largest overlap first; parts left over take the unused ranks in order.
+std::vector<int> relabel_parts(const std::vector<int>& old, const std::vector<int>& fresh,
+                               const std::vector<std::int64_t>& work, int parts);
+
+}  // namespace sphdem::detail

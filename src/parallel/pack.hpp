@@ -1,0 +1,56 @@
+#pragma once
+// Particle records for migration and the halo build: the fields a policy
+// selects (FieldPolicy.migrate or .ghost), in registry order, one particle
+// after another. Driven by SphParticles::for_each_field, so a new field
+// travels as soon as it is registered with the right policy.
+#include <cstring>
+#include <vector>
+
+#include "sphdem/particles.hpp"
+
+namespace sphdem::detail {
+
+template <int D, class Want>
+std::size_t record_bytes(SphParticles<D>& ps, Want want) {
+  std::size_t bytes = 0;
+  ps.for_each_field([&](const char*, auto& field, FieldPolicy p) {
+    if (want(p)) bytes += sizeof(typename std::decay_t<decltype(field)>::value_type);
+  });
+  return bytes;
+}
+
+// Appends the records of particles idx[0..n) to `out`.
+template <int D, class Want>
+void pack_records(SphParticles<D>& ps, const std::vector<std::size_t>& idx, Want want,
+                  std::vector<char>& out) {
+  const std::size_t rec = record_bytes(ps, want), base = out.size();
+  out.resize(base + rec * idx.size());
+  std::size_t offset = 0;
+  ps.for_each_field([&](const char*, auto& field, FieldPolicy p) {
+    if (!want(p)) return;
+    const std::size_t size = sizeof(typename std::decay_t<decltype(field)>::value_type);
+    char* dst = out.data() + base + offset;
+    for (std::size_t k = 0; k < idx.size(); ++k) {
+      std::memcpy(dst + k * rec, static_cast<const void*>(&field[idx[k]]), size);
+    }
+    offset += size;
+  });
+}
+
+// Writes n records from `in` to particles [first, first + n).
+template <int D, class Want>
+void unpack_records(SphParticles<D>& ps, std::size_t first, std::size_t n, Want want,
+                    const char* in) {
+  const std::size_t rec = record_bytes(ps, want);
+  std::size_t offset = 0;
+  ps.for_each_field([&](const char*, auto& field, FieldPolicy p) {
+    if (!want(p)) return;
+    const std::size_t size = sizeof(typename std::decay_t<decltype(field)>::value_type);
+    for (std::size_t k = 0; k < n; ++k) {
+      std::memcpy(static_cast<void*>(&field[first + k]), in + k * rec + offset, size);
+    }
+    offset += size;
+  });
+}
+
+}  // namespace sphdem::detail
