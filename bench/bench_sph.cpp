@@ -12,10 +12,10 @@
 // process (set-up included, as the peer numbers were measured).
 #include <mpi.h>
 
+#include <fmt/format.h>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <fmt/format.h>
 #include <string>
 
 #include "sphdem/config.hpp"
@@ -59,11 +59,16 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto next = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
-    if (a == "--nx") nx = std::stoi(next());
-    else if (a == "--ny") ny = std::stoi(next());
-    else if (a == "--steps") steps = std::stol(next());
-    else if (a == "--case") case_file = next();
-    else if (a == "--set") sets.push_back(next());
+    if (a == "--nx")
+      nx = std::stoi(next());
+    else if (a == "--ny")
+      ny = std::stoi(next());
+    else if (a == "--steps")
+      steps = std::stol(next());
+    else if (a == "--case")
+      case_file = next();
+    else if (a == "--set")
+      sets.push_back(next());
     else {
       usage();
       MPI_Finalize();
@@ -73,9 +78,9 @@ int main(int argc, char** argv) {
   int status = 0;
   {
     const sphdem::Comm comm;
-    const sphdem::Case c = case_file.empty()
-                               ? sphdem::load_case_from_string(channel_case(nx, ny), "channel", sets)
-                               : sphdem::load_case(case_file, sets);
+    const sphdem::Case c =
+        case_file.empty() ? sphdem::load_case_from_string(channel_case(nx, ny), "channel", sets)
+                          : sphdem::load_case(case_file, sets);
     sphdem::RunOptions opt;
     opt.write_output = false;
     if (c.dimension != 2) {
@@ -85,13 +90,14 @@ int main(int argc, char** argv) {
       sphdem::Simulation<2> sim(c, comm, opt);
       const auto t0 = std::chrono::steady_clock::now();
       sim.advance(steps);
-      const double loop = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const double loop =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const double whole =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
       const double n = static_cast<double>(sim.global_fluid_count() + sim.global_wall_count());
       if (comm.root()) {
-        std::printf("case %s: %.0f particles (%lld resin), %ld steps, %d rank(s)\n", c.name.c_str(), n,
-                    static_cast<long long>(sim.global_fluid_count()), steps, comm.size());
+        std::printf("case %s: %.0f particles (%lld resin), %ld steps, %d rank(s)\n", c.name.c_str(),
+                    n, static_cast<long long>(sim.global_fluid_count()), steps, comm.size());
         std::printf("loop:  %.3f s  %.3f M particle-steps/s\n", loop, n * steps / loop / 1e6);
         std::printf("whole: %.3f s  %.3f M particle-steps/s\n", whole, n * steps / whole / 1e6);
       }

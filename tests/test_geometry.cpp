@@ -52,7 +52,7 @@ TEST(Filling, CountsAndWallLayers) {
   const Case c = load_case_from_string(kBox, "box.yaml");
   SphParticles<2> ps;
   const InitialCounts n = build_initial_particles<2>(c, ps);
-  EXPECT_EQ(n.fluid, 50u);                 // 10 x 5 lattice nodes
+  EXPECT_EQ(n.fluid, 50u);  // 10 x 5 lattice nodes
   // 3 layers around a 10 x 10 cavity, less the outermost corner node of each
   // corner: it lies 3.5 dp from the cavity, beyond the layers' 3 dp reach
   // (and beyond any resin particle's 2.4 dp support).

@@ -54,8 +54,12 @@ void check_column(const std::string& input, double depth) {
   EXPECT_NEAR(top, depth, dp) << "the free surface stays where it started";
 }
 
-TEST(Hydrostatic, Column2D) { check_column<2>("validation/hydrostatic_2d.yaml", 0.02); }
-TEST(Hydrostatic, Column3D) { check_column<3>("validation/hydrostatic_3d.yaml", 0.015); }
+TEST(Hydrostatic, Column2D) {
+  check_column<2>("validation/hydrostatic_2d.yaml", 0.02);
+}
+TEST(Hydrostatic, Column3D) {
+  check_column<3>("validation/hydrostatic_3d.yaml", 0.015);
+}
 
 }  // namespace
 }  // namespace sphdem

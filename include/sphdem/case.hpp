@@ -23,8 +23,8 @@ struct Shape {
 };
 
 struct Resin {
-  double density = 0;    // rho0 [kg/m^3]
-  double viscosity = 0;  // mu [Pa s]
+  double density = 0;      // rho0 [kg/m^3]
+  double viscosity = 0;    // mu [Pa s]
   double sound_speed = 0;  // c0 [m/s], given or from mach * reference_velocity
   double gamma = 7.0;      // Tait exponent
 };
@@ -32,10 +32,10 @@ struct Resin {
 enum class ViscosityModel { Morris, None };
 
 struct Numerics {
-  double spacing = 0;          // dp [m]
+  double spacing = 0;  // dp [m]
   double h_over_spacing = 1.2;
-  double cfl = 0.25;           // dt <= cfl h / (c0 + |v|max)
-  double force_factor = 0.25;  // dt <= force_factor sqrt(h/|a|max)
+  double cfl = 0.25;              // dt <= cfl h / (c0 + |v|max)
+  double force_factor = 0.25;     // dt <= force_factor sqrt(h/|a|max)
   double viscous_factor = 0.125;  // dt <= viscous_factor h^2 rho0/mu
   std::optional<double> fixed_dt;
   double end_time = 0;
@@ -48,7 +48,7 @@ struct Numerics {
   bool anti_clump = true;             // Monaghan (2000) tensile-instability term
   double anti_clump_epsilon = 0.2;
   int anti_clump_exponent = 4;
-  double neighbor_skin = 0.1;         // Verlet skin as a fraction of the support 2h
+  double neighbor_skin = 0.1;  // Verlet skin as a fraction of the support 2h
 };
 
 struct Mold {
@@ -81,7 +81,7 @@ struct SlidingWall {
 };
 
 struct Output {
-  std::string directory;            // default: out/<name>
+  std::string directory;             // default: out/<name>
   std::optional<double> every_time;  // [s] of simulated time
   std::optional<int> every_steps;
   std::vector<std::string> fields{"velocity", "density", "pressure"};
@@ -105,7 +105,7 @@ struct Case {
   std::vector<Shape> fill;
   std::vector<MovingWall> moving_walls;
   std::vector<SlidingWall> sliding_walls;
-  Vec3a body_force{};  // [m/s^2]
+  Vec3a body_force{};        // [m/s^2]
   Vec3a initial_velocity{};  // [m/s] of the resin at t = 0
   std::array<bool, 3> periodic{false, false, false};
   std::optional<Vec3a> domain_lo, domain_hi;  // default: mold bbox + wall layers

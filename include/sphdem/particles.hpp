@@ -26,19 +26,19 @@ struct SphParticles {
   std::size_t n_owned = 0;
 
   // Identity and constants.
-  std::vector<std::int64_t> gid;    // global id, dense per kind
-  std::vector<Kind> kind;           // fluid or wall
-  std::vector<std::int32_t> wall;   // index of the moving/sliding wall, -1 = fixed or fluid
-  std::vector<double> mass;         // [kg] (per unit depth in 2D: kg/m)
+  std::vector<std::int64_t> gid;   // global id, dense per kind
+  std::vector<Kind> kind;          // fluid or wall
+  std::vector<std::int32_t> wall;  // index of the moving/sliding wall, -1 = fixed or fluid
+  std::vector<double> mass;        // [kg] (per unit depth in 2D: kg/m)
   // State.
   std::vector<Vec<D>> x;    // position [m]
   std::vector<Vec<D>> v;    // velocity [m/s]; for walls the wall's own velocity
   std::vector<double> rho;  // density [kg/m^3]; walls: extrapolated (Adami)
   // Derived every rate evaluation.
-  std::vector<double> p;       // pressure [Pa]; walls: extrapolated
-  std::vector<Vec<D>> vwall;   // walls: velocity seen by the viscous term (no-slip)
-  std::vector<Vec<D>> a;       // acceleration [m/s^2] (owned fluid)
-  std::vector<double> drho;    // density rate [kg/m^3/s] (owned fluid)
+  std::vector<double> p;      // pressure [Pa]; walls: extrapolated
+  std::vector<Vec<D>> vwall;  // walls: velocity seen by the viscous term (no-slip)
+  std::vector<Vec<D>> a;      // acceleration [m/s^2] (owned fluid)
+  std::vector<double> drho;   // density rate [kg/m^3/s] (owned fluid)
   // Integrator state within a step: half-step values (owned only).
   std::vector<Vec<D>> v_half;
   std::vector<double> rho_half;

@@ -18,15 +18,15 @@ struct SphParams {
   double h = 0;
   double spacing = 0;
   double rho0 = 0, c0 = 0, gamma = 7;
-  double mu = 0;             // laminar viscosity (0: none)
-  double mu_scale = 1;       // lattice correction of the viscous Laplacian
-  double grad_scale = 1;     // lattice correction of the kernel gradient
-  double alpha = 0;          // Monaghan artificial viscosity
-  double delta = 0;          // delta-SPH coefficient (0: off)
+  double mu = 0;          // laminar viscosity (0: none)
+  double mu_scale = 1;    // lattice correction of the viscous Laplacian
+  double grad_scale = 1;  // lattice correction of the kernel gradient
+  double alpha = 0;       // Monaghan artificial viscosity
+  double delta = 0;       // delta-SPH coefficient (0: off)
   bool anti_clump = true;
   double anti_clump_eps = 0.2;
   int anti_clump_n = 4;
-  double eta2 = 0;           // 0.01 h^2, keeps 1/r^2 terms finite
+  double eta2 = 0;  // 0.01 h^2, keeps 1/r^2 terms finite
   Vec3a body_force{};
 };
 

@@ -1,8 +1,8 @@
 #include "commands.hpp"
 
+#include <fmt/format.h>
 #include <CLI/CLI.hpp>
 #include <cmath>
-#include <fmt/format.h>
 #include <iostream>
 
 #include "sphdem/comm.hpp"
@@ -34,16 +34,17 @@ int run_case(const Case& c, const RunArgs& a, const Comm& comm) {
   opt.log = a.quiet ? nullptr : &std::cout;
   Simulation<D> sim(c, comm, opt);
   if (comm.root() && !a.quiet) {
-    std::cout << fmt::format("sphdem {}: case '{}' ({}D), {} resin + {} wall particles, {} rank(s)\n",
-                             SPHDEM_VERSION, c.name, D, sim.global_fluid_count(),
-                             sim.global_wall_count(), comm.size());
+    std::cout << fmt::format(
+        "sphdem {}: case '{}' ({}D), {} resin + {} wall particles, {} rank(s)\n", SPHDEM_VERSION,
+        c.name, D, sim.global_fluid_count(), sim.global_wall_count(), comm.size());
   }
   const RunSummary s = sim.run();
   if (comm.root() && !a.quiet) {
-    std::cout << fmt::format("done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s), "
-                             "{} snapshots in {}\n",
-                             s.steps, s.time, s.wall_seconds, s.particle_steps_per_second,
-                             s.snapshots, opt.output_dir.empty() ? c.output.directory : opt.output_dir);
+    std::cout << fmt::format(
+        "done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s), "
+        "{} snapshots in {}\n",
+        s.steps, s.time, s.wall_seconds, s.particle_steps_per_second, s.snapshots,
+        opt.output_dir.empty() ? c.output.directory : opt.output_dir);
   }
   return 0;
 }
@@ -61,7 +62,8 @@ int check_case(const Case& c, const Comm& comm) {
   const double steps = std::ceil(c.numerics.end_time / ts.dt);
   const double n = static_cast<double>(sim.global_fluid_count() + sim.global_wall_count());
   const double bytes = n * (D * 8.0 * 7 + 8.0 * 8 + 4.0 * (D == 2 ? 30 : 80));
-  const double seconds = static_cast<double>(sim.global_fluid_count()) * steps / kParticleStepsPerSecond;
+  const double seconds =
+      static_cast<double>(sim.global_fluid_count()) * steps / kParticleStepsPerSecond;
   std::cout << fmt::format(
       "case '{}' ({}D) is valid\n"
       "  particles: {} resin, {} wall\n"
@@ -70,9 +72,9 @@ int check_case(const Case& c, const Comm& comm) {
       "  steps to end_time {:.4g} s: about {:.0f}\n"
       "  memory: about {:.1f} MiB\n"
       "  run time: about {:.0f} s on one core (at {:.1g} particle-steps/s)\n",
-      c.name, D, sim.global_fluid_count(), sim.global_wall_count(), c.numerics.spacing, sp.h,
-      sp.c0, ts.dt, to_string(ts.limit), c.numerics.end_time, steps, bytes / (1024.0 * 1024.0),
-      seconds, kParticleStepsPerSecond);
+      c.name, D, sim.global_fluid_count(), sim.global_wall_count(), c.numerics.spacing, sp.h, sp.c0,
+      ts.dt, to_string(ts.limit), c.numerics.end_time, steps, bytes / (1024.0 * 1024.0), seconds,
+      kParticleStepsPerSecond);
   return 0;
 }
 
@@ -87,7 +89,8 @@ int dispatch(int argc, char** argv) {
   RunArgs run;
   CLI::App* run_cmd = app.add_subcommand("run", "Run a case (mpirun -n N sphdem run case.yaml)");
   run_cmd->add_option("case", run.case_file, "Case file (YAML), see docs/case-file.md")->required();
-  run_cmd->add_option("-o,--output", run.output_dir, "Output directory (default: output.directory)");
+  run_cmd->add_option("-o,--output", run.output_dir,
+                      "Output directory (default: output.directory)");
   run_cmd->add_option("--steps", run.steps, "Stop when the step counter reaches N");
   run_cmd->add_option("--set", run.sets, "Override a case key: --set numerics.spacing=1e-3")
       ->allow_extra_args(false);
@@ -103,14 +106,15 @@ int dispatch(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     std::ostream null_stream(nullptr);  // ranks other than 0 stay silent
-    const int code = app.exit(e, comm.root() ? std::cout : null_stream,
-                              comm.root() ? std::cerr : null_stream);
+    const int code =
+        app.exit(e, comm.root() ? std::cout : null_stream, comm.root() ? std::cerr : null_stream);
     return code == 0 ? 0 : 2;
   }
 
   const RunArgs& a = run_cmd->parsed() ? run : check;
   const Case c = load_case(a.case_file, a.sets);
-  if (run_cmd->parsed()) return c.dimension == 2 ? run_case<2>(c, a, comm) : run_case<3>(c, a, comm);
+  if (run_cmd->parsed())
+    return c.dimension == 2 ? run_case<2>(c, a, comm) : run_case<3>(c, a, comm);
   return c.dimension == 2 ? check_case<2>(c, comm) : check_case<3>(c, comm);
 }
 

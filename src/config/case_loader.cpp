@@ -128,8 +128,7 @@ Numerics read_numerics(const Value& v, const Resin& r) {
   const Map m =
       v.map({"spacing", "h_over_spacing", "cfl", "force_factor", "viscous_factor", "fixed_dt",
              "end_time", "viscosity_model", "artificial_viscosity", "delta_sph", "anti_clump",
-             "anti_clump_epsilon", "anti_clump_exponent", "neighbor_skin",
-             "lattice_correction"});
+             "anti_clump_epsilon", "anti_clump_exponent", "neighbor_skin", "lattice_correction"});
   Numerics n;
   n.spacing = config::positive(m.require("spacing"));
   n.end_time = config::positive(m.require("end_time"));
@@ -187,9 +186,8 @@ class WallNames {
 };
 
 MovingWall read_moving_wall(const Value& v, int dim, WallNames& names) {
-  const Map m =
-      v.map({"name", "region", "velocity_table", "pressure_limit", "pressure_relax_time",
-             "adhesion_pressure"});
+  const Map m = v.map({"name", "region", "velocity_table", "pressure_limit", "pressure_relax_time",
+                       "adhesion_pressure"});
   MovingWall w;
   w.name = names.claim(m.require("name"));
   w.region = config::read_shape(m.require("region"), dim);

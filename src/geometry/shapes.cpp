@@ -115,20 +115,24 @@ Box<D> simulation_domain(const Case& c) {
   Box<D> b = mold_bounds<D>(c);
   const double margin = (c.mold.wall_layers + 1) * c.numerics.spacing;
   for (int k = 0; k < D; ++k) {
-    if (c.domain_lo) b.lo[k] = (*c.domain_lo)[k];
-    else b.lo[k] -= margin;
-    if (c.domain_hi) b.hi[k] = (*c.domain_hi)[k];
-    else b.hi[k] += margin;
+    if (c.domain_lo)
+      b.lo[k] = (*c.domain_lo)[k];
+    else
+      b.lo[k] -= margin;
+    if (c.domain_hi)
+      b.hi[k] = (*c.domain_hi)[k];
+    else
+      b.hi[k] += margin;
   }
   return b;
 }
 
-#define SPHDEM_INSTANTIATE(D)                                                              \
-  template bool shape_contains<D>(const Shape&, const Vec<D>&, double);                    \
-  template double shape_distance<D>(const Shape&, const Vec<D>&);                          \
-  template bool union_contains<D>(const std::vector<Shape>&, const Vec<D>&, double);       \
-  template double union_distance<D>(const std::vector<Shape>&, const Vec<D>&);             \
-  template Box<D> mold_bounds<D>(const Case&);                                             \
+#define SPHDEM_INSTANTIATE(D)                                                        \
+  template bool shape_contains<D>(const Shape&, const Vec<D>&, double);              \
+  template double shape_distance<D>(const Shape&, const Vec<D>&);                    \
+  template bool union_contains<D>(const std::vector<Shape>&, const Vec<D>&, double); \
+  template double union_distance<D>(const std::vector<Shape>&, const Vec<D>&);       \
+  template Box<D> mold_bounds<D>(const Case&);                                       \
   template Box<D> simulation_domain<D>(const Case&);
 SPHDEM_INSTANTIATE(2)
 SPHDEM_INSTANTIATE(3)

@@ -16,13 +16,29 @@ T reduce(MPI_Comm comm, T v, MPI_Datatype type, MPI_Op op) {
 }
 }  // namespace
 
-double Comm::max(double v) const { return reduce(comm_, v, MPI_DOUBLE, MPI_MAX); }
-double Comm::min(double v) const { return reduce(comm_, v, MPI_DOUBLE, MPI_MIN); }
-double Comm::sum(double v) const { return reduce(comm_, v, MPI_DOUBLE, MPI_SUM); }
-std::int64_t Comm::sum(std::int64_t v) const { return reduce(comm_, v, MPI_INT64_T, MPI_SUM); }
-std::int64_t Comm::max(std::int64_t v) const { return reduce(comm_, v, MPI_INT64_T, MPI_MAX); }
-std::int64_t Comm::min(std::int64_t v) const { return reduce(comm_, v, MPI_INT64_T, MPI_MIN); }
-bool Comm::any(bool v) const { return reduce<int>(comm_, v ? 1 : 0, MPI_INT, MPI_MAX) != 0; }
-void Comm::barrier() const { MPI_Barrier(comm_); }
+double Comm::max(double v) const {
+  return reduce(comm_, v, MPI_DOUBLE, MPI_MAX);
+}
+double Comm::min(double v) const {
+  return reduce(comm_, v, MPI_DOUBLE, MPI_MIN);
+}
+double Comm::sum(double v) const {
+  return reduce(comm_, v, MPI_DOUBLE, MPI_SUM);
+}
+std::int64_t Comm::sum(std::int64_t v) const {
+  return reduce(comm_, v, MPI_INT64_T, MPI_SUM);
+}
+std::int64_t Comm::max(std::int64_t v) const {
+  return reduce(comm_, v, MPI_INT64_T, MPI_MAX);
+}
+std::int64_t Comm::min(std::int64_t v) const {
+  return reduce(comm_, v, MPI_INT64_T, MPI_MIN);
+}
+bool Comm::any(bool v) const {
+  return reduce<int>(comm_, v ? 1 : 0, MPI_INT, MPI_MAX) != 0;
+}
+void Comm::barrier() const {
+  MPI_Barrier(comm_);
+}
 
 }  // namespace sphdem

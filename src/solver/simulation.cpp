@@ -1,16 +1,16 @@
+#include <fmt/format.h>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fmt/format.h>
 #include <fstream>
 #include <ostream>
 
+#include "snapshot_fields.hpp"
 #include "sphdem/errors.hpp"
 #include "sphdem/geometry.hpp"
 #include "sphdem/io.hpp"
 #include "sphdem/ordered_sum.hpp"
 #include "sphdem/solver.hpp"
-#include "snapshot_fields.hpp"
 
 namespace sphdem {
 
@@ -161,9 +161,10 @@ void Simulation<D>::do_step() {
     a_max = comm_.max(ex.a_max);
   }
   if (!std::isfinite(v_max) || !std::isfinite(a_max)) {
-    throw SimulationError(fmt::format("the resin blew up at step {} (t = {:.6g} s): a velocity "
-                                      "or acceleration is not finite",
-                                      step_, time_));
+    throw SimulationError(
+        fmt::format("the resin blew up at step {} (t = {:.6g} s): a velocity "
+                    "or acceleration is not finite",
+                    step_, time_));
   }
   dt_ = choose_time_step(case_.numerics, sp_, v_max, a_max);
   const double dt = dt_.dt, half = 0.5 * dt;
@@ -180,11 +181,12 @@ void Simulation<D>::do_step() {
   // Rigid walls: exact for a piecewise-linear table within a segment.
   std::vector<Vec<D>> disp(walls_.size());
   for (std::size_t k = 0; k < walls_.size(); ++k) {
-    disp[k] = walls_[k].moves ? Vec<D>(dt * to_vec<D>(walls_[k].velocity(time_ + half)))
-                              : Vec<D>::Zero();
+    disp[k] =
+        walls_[k].moves ? Vec<D>(dt * to_vec<D>(walls_[k].velocity(time_ + half))) : Vec<D>::Zero();
   }
   for (std::size_t i = 0; i < ps_.n_owned; ++i) {
-    if (ps_.kind[i] == Kind::Wall && ps_.wall[i] >= 0) ps_.x[i] += disp[static_cast<std::size_t>(ps_.wall[i])];
+    if (ps_.kind[i] == Kind::Wall && ps_.wall[i] >= 0)
+      ps_.x[i] += disp[static_cast<std::size_t>(ps_.wall[i])];
   }
   time_ += dt;
   ++step_;
@@ -220,9 +222,10 @@ void Simulation<D>::check_health() const {
       }
       if (!case_.periodic[k] && (x < domain_.lo[k] || x > domain_.hi[k])) {
         bad = true;
-        what = fmt::format("particle {} left the domain along axis {} (x = {:.6g} m, domain "
-                           "[{:.6g}, {:.6g}])",
-                           ps_.gid[i], "xyz"[k], x, domain_.lo[k], domain_.hi[k]);
+        what = fmt::format(
+            "particle {} left the domain along axis {} (x = {:.6g} m, domain "
+            "[{:.6g}, {:.6g}])",
+            ps_.gid[i], "xyz"[k], x, domain_.lo[k], domain_.hi[k]);
         break;
       }
     }
@@ -277,11 +280,11 @@ void Simulation<D>::report_progress(double elapsed, std::int64_t steps_done, boo
                                        piston->velocity(time_)[2]),
                             piston->face_pressure);
   }
-  *opt_.log << fmt::format("step {:>8}  t={:.4e} s  dt={:.3e} s ({})  {:.3g} particle-steps/s  "
-                           "ETA {:02d}:{:02d}:{:02d}{}\n",
-                           step_, time_, dt_.dt, to_string(dt_.limit), rate,
-                           static_cast<int>(eta / 3600), static_cast<int>(eta / 60) % 60,
-                           static_cast<int>(eta) % 60, wall_info)
+  *opt_.log << fmt::format(
+                   "step {:>8}  t={:.4e} s  dt={:.3e} s ({})  {:.3g} particle-steps/s  "
+                   "ETA {:02d}:{:02d}:{:02d}{}\n",
+                   step_, time_, dt_.dt, to_string(dt_.limit), rate, static_cast<int>(eta / 3600),
+                   static_cast<int>(eta / 60) % 60, static_cast<int>(eta) % 60, wall_info)
             << std::flush;
 }
 

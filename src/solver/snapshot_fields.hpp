@@ -25,7 +25,8 @@ class SnapshotBuffers {
       v.id = s.id.data();
       v.dimension = D;
       v.position = s.position.data();
-      for (const Field& f : s.fields) v.fields.push_back({f.name, f.units, f.components, f.data.data()});
+      for (const Field& f : s.fields)
+        v.fields.push_back({f.name, f.units, f.components, f.data.data()});
       out.push_back(std::move(v));
     }
     return out;

@@ -71,10 +71,14 @@ LocalExtremes local_extremes(const SphParticles<D>& ps) {
 
 const char* to_string(DtLimit l) {
   switch (l) {
-    case DtLimit::Cfl: return "cfl";
-    case DtLimit::Force: return "force";
-    case DtLimit::Viscous: return "viscous";
-    case DtLimit::Fixed: return "fixed";
+    case DtLimit::Cfl:
+      return "cfl";
+    case DtLimit::Force:
+      return "force";
+    case DtLimit::Viscous:
+      return "viscous";
+    case DtLimit::Fixed:
+      return "fixed";
   }
   return "?";
 }
