@@ -4,9 +4,16 @@ or jobscripts/weak_scaling.sh, as a PNG.
 
   tools/plot_scaling.py strong.csv -o strong.png            # strong: E = T1 / (N TN)
   tools/plot_scaling.py weak.csv --weak -o weak.png         # weak:   E = T1 / TN
+
+With --predict, reads the CSV of `sphdem partition` instead and prints the
+efficiency the model of docs/scaling.md predicts at its rank counts:
+
+  tools/plot_scaling.py --predict plate_s8.csv --tp 1.41e-7 --allgathers 2
+  tools/plot_scaling.py --predict channel_weak_64.csv --tp 1.32e-7 --extrapolate 256,1024,4096
 """
 import argparse
 import csv
+import math
 import sys
 
 try:
@@ -17,12 +24,61 @@ except ImportError as e:
     sys.exit("plot_scaling.py: %s (run it with /usr/bin/python3)" % e)
 
 
+def step_time(p, n, r, a):
+    """Model time of one step on p ranks with n particles each (docs/scaling.md)."""
+    log_p = math.ceil(math.log2(p)) if p > 1 else 0
+    ghosts = float(r["ghost_fraction_max"]) * n
+    compute = a.tp * (n * (1 + float(r["imbalance"])) + a.ghost_cost * ghosts)
+    halo = 2 * a.alpha * int(r["neighbors_max"]) + a.beta * float(r["halo_bytes_max"])
+    collectives = (a.allreduces + a.allgathers) * a.alpha * log_p + a.allgathers * a.beta * 4 * p
+    # Two MPI_Alltoall of counts (migration, halo plan) per neighbor rebuild.
+    alltoall = 2 * (a.alpha * log_p + a.beta * 4 * p * log_p / 2) / a.rebuild_every
+    return compute, halo, collectives + alltoall
+
+
+def predict(a):
+    rows = [r for r in csv.DictReader(open(a.predict)) if r["imbalance"] != ""]
+    if a.extrapolate:  # weak scaling: the last row's per-rank numbers at more ranks
+        last = rows[-1]
+        n_rank = float(last["particles"]) / int(last["ranks"])
+        for p in (int(x) for x in a.extrapolate.split(",")):
+            rows.append(dict(last, ranks=str(p), particles=str(n_rank * p), extrapolated="yes"))
+    print("| ranks | particles/rank | compute [us] | halo [us] | collectives [us] | E(P) |")
+    print("|---|---|---|---|---|---|")
+    for r in rows:
+        p = int(r["ranks"])
+        n = float(r["particles"]) / p
+        comp, halo, coll = step_time(p, n, r, a)
+        eff = a.tp * n / (comp + halo + coll)
+        mark = " (extrapolated)" if r.get("extrapolated") else ""
+        print("| %d%s | %.0f | %.1f | %.1f | %.1f | %.0f %% |" %
+              (p, mark, n, 1e6 * comp, 1e6 * halo, 1e6 * coll, 100 * eff))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("csv")
+    ap.add_argument("csv", nargs="?")
     ap.add_argument("--weak", action="store_true", help="weak scaling (work per rank fixed)")
     ap.add_argument("-o", "--output", default="scaling.png")
+    ap.add_argument("--dpi", type=int, default=80)
+    m = ap.add_argument_group("efficiency model (--predict)")
+    m.add_argument("--predict", metavar="PARTITION_CSV", help="CSV of `sphdem partition --csv`")
+    m.add_argument("--tp", type=float, default=1.4e-7, help="seconds per particle-step on one core")
+    m.add_argument("--alpha", type=float, default=2e-6, help="latency per message [s]")
+    m.add_argument("--beta", type=float, default=1 / 5e9, help="seconds per byte (1 / bandwidth)")
+    m.add_argument("--ghost-cost", type=float, default=0.1,
+                   help="cost of a ghost relative to an owned particle (records, pressure)")
+    m.add_argument("--allreduces", type=int, default=3, help="allreduces per step")
+    m.add_argument("--allgathers", type=int, default=0,
+                   help="allgathers per step (2 with a piston: its face pressure)")
+    m.add_argument("--rebuild-every", type=float, default=10, help="steps between neighbor rebuilds")
+    m.add_argument("--extrapolate", metavar="P,P,...",
+                   help="weak scaling: reuse the last row's per-rank numbers at these rank counts")
     a = ap.parse_args()
+    if a.predict:
+        return predict(a)
+    if not a.csv:
+        ap.error("a scaling CSV (or --predict) is needed")
     rows = sorted((int(r["ranks"]), float(r["seconds"])) for r in csv.DictReader(open(a.csv)))
     if not rows or rows[0][0] != 1:
         sys.exit("plot_scaling.py: the CSV needs a 1-rank row")
@@ -43,7 +99,7 @@ def main():
     a2.set_xlabel("ranks")
     a2.set_ylabel("efficiency [%]")
     fig.suptitle("weak scaling" if a.weak else "strong scaling")
-    fig.savefig(a.output, dpi=110, bbox_inches="tight")
+    fig.savefig(a.output, dpi=a.dpi, bbox_inches="tight")
 
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "partition_command.hpp"
 #include "sphdem/comm.hpp"
 #include "sphdem/config.hpp"
 #include "sphdem/errors.hpp"
@@ -102,6 +103,9 @@ int dispatch(int argc, char** argv) {
   check_cmd->add_option("case", check.case_file, "Case file (YAML)")->required();
   check_cmd->add_option("--set", check.sets, "Override a case key")->allow_extra_args(false);
 
+  PartitionArgs part;
+  CLI::App* part_cmd = add_partition_command(app, part);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -111,6 +115,7 @@ int dispatch(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
 
+  if (part_cmd->parsed()) return run_partition_command(part, comm);
   const RunArgs& a = run_cmd->parsed() ? run : check;
   const Case c = load_case(a.case_file, a.sets);
   if (run_cmd->parsed())

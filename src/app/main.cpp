@@ -1,4 +1,5 @@
-// The sphdem command line: `sphdem run case.yaml`, `sphdem check case.yaml`.
+// The sphdem command line: `sphdem run case.yaml`, `sphdem check case.yaml`,
+// `sphdem partition case.yaml --ranks 64,256`.
 // Exit status: 0 success, 2 bad input (nothing written), 3 the simulation
 // failed (last state written), 1 anything else.
 #include <mpi.h>

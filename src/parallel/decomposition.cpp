@@ -230,7 +230,13 @@ detail::CellNeighbors neighbor_function(const CellGrid<D>& grid) {
   };
 }
 
-// Rank 0's part of partition(): the new cell -> rank map.
+}  // namespace
+
+namespace detail {
+
+// Rank 0's part of partition(): the new cell -> rank map. Also called by
+// `sphdem partition` (src/parallel/partition_report.cpp), which must see
+// exactly what a run would.
 template <int D>
 std::vector<int> compute_owners(const CellGrid<D>& grid, const std::vector<std::int64_t>& work,
                                 const std::vector<int>& old, bool relabel, int parts) {
@@ -251,7 +257,12 @@ std::vector<int> compute_owners(const CellGrid<D>& grid, const std::vector<std::
   return relabel ? detail::relabel_parts(old, owner, work, parts) : owner;
 }
 
-}  // namespace
+template std::vector<int> compute_owners<2>(const CellGrid<2>&, const std::vector<std::int64_t>&,
+                                            const std::vector<int>&, bool, int);
+template std::vector<int> compute_owners<3>(const CellGrid<3>&, const std::vector<std::int64_t>&,
+                                            const std::vector<int>&, bool, int);
+
+}  // namespace detail
 
 template <int D>
 void Decomposition<D>::partition(const std::vector<std::int64_t>& work, bool replicated) {
@@ -268,7 +279,7 @@ void Decomposition<D>::partition(const std::vector<std::int64_t>& work, bool rep
   std::string error;
   if (comm_.root()) {
     try {
-      owner_ = compute_owners(grid_, total, owner_, partitioned_, comm_.size());
+      owner_ = detail::compute_owners(grid_, total, owner_, partitioned_, comm_.size());
     } catch (const std::exception& e) {
       error = e.what();
     }

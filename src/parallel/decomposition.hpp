@@ -5,6 +5,11 @@
 #include <functional>
 #include <vector>
 
+namespace sphdem {
+template <int D>
+class CellGrid;
+}
+
 namespace sphdem::detail {
 
 // A graph in compressed rows (the METIS layout): the neighbors of vertex v
@@ -39,5 +44,13 @@ void attach_empty_cells(std::vector<int>& owner, const CellNeighbors& neighbors)
 // largest overlap first; parts left over take the unused ranks in order.
 std::vector<int> relabel_parts(const std::vector<int>& old, const std::vector<int>& fresh,
                                const std::vector<std::int64_t>& work, int parts);
+
+// The whole serial partition: METIS on the graph of the cells with work > 0
+// (weights: `work`), empty cells attached to their nearest part, and with
+// `relabel` the parts renamed to keep work on its rank from `old`. Returns
+// the owner of every cell of `grid`.
+template <int D>
+std::vector<int> compute_owners(const CellGrid<D>& grid, const std::vector<std::int64_t>& work,
+                                const std::vector<int>& old, bool relabel, int parts);
 
 }  // namespace sphdem::detail

@@ -1,0 +1,133 @@
+#pragma once
+// Fibers as bonded DEM particles (DESIGN 2.2, docs/dem.md): linear
+// spring-dashpot contacts with an incremental Coulomb-capped tangential
+// spring, Potyondy & Cundall (2004) parallel bonds with breakage, and a
+// velocity-Verlet step for translation and rotation. The pair kernels live
+// in src/dem/terms/, one per header; the loops are in src/dem/dem_step.cpp.
+// Nothing here knows about ranks.
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "sphdem/dem_particles.hpp"
+
+namespace sphdem {
+
+// Units: SI. In 2D every quantity is per unit depth (thickness t, 1 m by
+// default): masses kg/m, forces N/m, stiffnesses N/m/m.
+template <int D>
+struct DemParams {
+  // Contacts (ANALYTIC.md 2).
+  double kn = 0;                  // normal contact stiffness [N/m]
+  double kt_over_kn = 2.0 / 7.0;  // tangential / normal contact stiffness
+  double restitution = 0.9;       // normal restitution e, sets the damping per pair
+  double friction = 0.3;          // Coulomb coefficient mu
+  // Parallel bonds (ANALYTIC.md 6).
+  double youngs_modulus = 0;  // E [Pa]: kbar_n = E / (R1 + R2) [Pa/m]
+  double kbar_star = 0.25;    // kbar_n / kbar_s (paper: 0.25)
+  double lambda = 1.0;        // bond radius multiplier, Rbar = lambda min(R1, R2)
+  double tensile_strength = std::numeric_limits<double>::infinity();  // sigma_c [Pa]
+  double shear_strength = std::numeric_limits<double>::infinity();    // tau_c [Pa]
+  double thickness = 1.0;  // 2D depth t [m] (bond area 2 Rbar t)
+  // Body force and damping.
+  Vec<D> gravity = Vec<D>::Zero();  // [m/s^2]
+  double global_damping = 0;        // [1/s]: F -= gamma m v, T -= gamma I omega
+  double dt_safety = 0.2;           // dt = dt_safety * min sqrt(m/k) (stable_dem_dt)
+};
+
+// The contact stiffness of DESIGN 2.2: a fraction of the bond's axial
+// stiffness kbar_n A for two equal particles of radius r (paper: 0.01).
+template <int D>
+double contact_stiffness_from_bond(const DemParams<D>& p, double r, double fraction = 0.01);
+
+// A rigid wall: a plane (one-sided, particles on the side of `normal`;
+// particles more than a radius behind it are not seen) or a segment [a, b]
+// (two-sided: a line segment in 2D, a thin rod in 3D). It translates at
+// `velocity` (a piston).
+template <int D>
+struct DemWall {
+  enum class Type { Plane, Segment };
+  Type type = Type::Plane;
+  Vec<D> point = Vec<D>::Zero();   // Plane: a point on it; Segment: end a
+  Vec<D> normal = Vec<D>::Zero();  // Plane: unit normal into the domain
+  Vec<D> end = Vec<D>::Zero();     // Segment: end b
+  Vec<D> velocity = Vec<D>::Zero();
+
+  static DemWall plane(const Vec<D>& p, const Vec<D>& n, const Vec<D>& vel = Vec<D>::Zero());
+  static DemWall segment(const Vec<D>& a, const Vec<D>& b, const Vec<D>& vel = Vec<D>::Zero());
+};
+
+// The 2 D inward planes of the box [lo, hi].
+template <int D>
+std::vector<DemWall<D>> box_walls(const Vec<D>& lo, const Vec<D>& hi);
+
+// Scratch of the DEM loops (cell list, gid -> index map), kept between steps.
+template <int D>
+struct DemWorkspace {
+  std::vector<std::int32_t> cell_start, cell_items;
+  std::vector<std::int32_t> index_of_gid;
+  bool forces_valid = false;  // force/torque hold the current state's values
+};
+
+// Contacts, bonds, body and external forces at the current positions.
+// Incremental springs advance by the relative velocities times `dt`
+// (0 for the first evaluation). Overwrites force and torque.
+template <int D>
+void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
+                        DemParticles<D>& ps, DemWorkspace<D>& ws);
+
+// One DEM sub-step of velocity Verlet (kick, drift, forces, kick) for
+// translation and rotation; moves the walls. The external force array
+// f_ext is held constant. Throws SimulationError when a bond partner is
+// missing or a particle runs out of contact slots.
+template <int D>
+void dem_step(const DemParams<D>& p, double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps,
+              DemWorkspace<D>& ws);
+
+// dt_safety * min over particles of sqrt(m / k_trans) and sqrt(I / k_rot),
+// k summed over the particle's bonds plus one contact (docs/dem.md).
+template <int D>
+double stable_dem_dt(const DemParams<D>& p, const DemParticles<D>& ps);
+
+// Energies for the tests and diagnostics [J] (2D: J/m).
+template <int D>
+double dem_kinetic_energy(const DemParticles<D>& ps);
+// Elastic energy stored in the bonds and contact springs.
+template <int D>
+double dem_elastic_energy(const DemParams<D>& p, const std::vector<DemWall<D>>& walls,
+                          const DemParticles<D>& ps);
+
+// A DEM-only driver: particles, walls and parameters (tests, fibers_only).
+template <int D>
+class DemSystem {
+ public:
+  DemParams<D> params;
+  DemParticles<D> particles;
+  std::vector<DemWall<D>> walls;
+
+  // Adds a particle at rest; returns its global id (0, 1, 2, ...).
+  std::int64_t add_particle(const Vec<D>& x, double radius, double density,
+                            std::int32_t fiber = -1);
+  // Bonds particles a and b (stored on the smaller gid), unstressed at
+  // their current distance.
+  void add_bond(std::int64_t a, std::int64_t b);
+  std::size_t index_of(std::int64_t gid) const;
+  // The bond between a and b (either order), or nullptr.
+  const DemBond<D>* bond(std::int64_t a, std::int64_t b) const;
+
+  double stable_dt() const { return stable_dem_dt(params, particles); }
+  void step(double dt);
+  // Call after changing particles or parameters by hand between steps.
+  void invalidate_forces() { ws_.forces_valid = false; }
+  double kinetic_energy() const { return dem_kinetic_energy(particles); }
+  double elastic_energy() const { return dem_elastic_energy(params, walls, particles); }
+  double time() const { return time_; }
+  std::int64_t steps() const { return steps_; }
+
+ private:
+  DemWorkspace<D> ws_;
+  double time_ = 0;
+  std::int64_t steps_ = 0;
+};
+
+}  // namespace sphdem

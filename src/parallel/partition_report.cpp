@@ -1,0 +1,236 @@
+// `sphdem partition`: the decomposition a run would start from, at rank
+// counts this machine cannot run (docs/scaling.md).
+#include "sphdem/partition_report.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+#include <ostream>
+#include <utility>
+
+#include "decomposition.hpp"
+#include "sphdem/comm.hpp"
+#include "sphdem/decomposition.hpp"
+#include "sphdem/geometry.hpp"
+#include "sphdem/neighbor.hpp"
+
+namespace sphdem {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// What the cells hold at the start: the partition weights exactly as a run
+// computes them (Decomposition::cell_work), and particle counts for the halo.
+struct CellLoad {
+  std::vector<std::int64_t> work;
+  std::vector<std::int64_t> fluid, wall;
+  long nonempty() const {
+    return std::count_if(work.begin(), work.end(), [](std::int64_t w) { return w > 0; });
+  }
+};
+
+template <int D>
+CellLoad cell_load(const Decomposition<D>& dec, const SphParticles<D>& ps) {
+  CellLoad load;
+  load.work = dec.cell_work(ps, ps.n_owned);
+  load.fluid.assign(load.work.size(), 0);
+  load.wall.assign(load.work.size(), 0);
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    const auto c = static_cast<std::size_t>(dec.grid().cell_of(ps.x[i]));
+    ++(ps.kind[i] == Kind::Fluid ? load.fluid : load.wall)[c];
+  }
+  return load;
+}
+
+// Ghosts at the cell level: every particle of a cell is a ghost on each
+// other rank owning a cell of its 3^D stencil (periodic faces included).
+// The run's halo also tests the distance to the neighbor cell, so it sends
+// somewhat fewer (corner cells only partly): this is an upper bound.
+struct HaloCounts {
+  std::vector<std::int64_t> ghosts, wall_ghosts;
+  std::vector<int> partners;  // ranks sending to or receiving from this one
+};
+
+template <int D>
+HaloCounts count_halo(const CellGrid<D>& grid, const CellLoad& load, const std::vector<int>& owner,
+                      int ranks) {
+  const auto p = static_cast<std::size_t>(ranks);
+  HaloCounts h{std::vector<std::int64_t>(p, 0), std::vector<std::int64_t>(p, 0),
+               std::vector<int>(p, 0)};
+  std::vector<std::pair<int, int>> links;
+  std::vector<int> targets;
+  std::array<long, 26> nb;
+  for (std::size_t c = 0; c < owner.size(); ++c) {
+    if (load.work[c] == 0) continue;
+    const int own = owner[c];
+    targets.clear();
+    const int n = grid.neighbors(static_cast<long>(c), nb);
+    for (int k = 0; k < n; ++k) {
+      const int s = owner[static_cast<std::size_t>(nb[static_cast<std::size_t>(k)])];
+      if (s != own && std::find(targets.begin(), targets.end(), s) == targets.end())
+        targets.push_back(s);
+    }
+    for (int s : targets) {
+      h.ghosts[static_cast<std::size_t>(s)] += load.fluid[c] + load.wall[c];
+      h.wall_ghosts[static_cast<std::size_t>(s)] += load.wall[c];
+      links.emplace_back(own, s);
+      links.emplace_back(s, own);
+    }
+  }
+  std::sort(links.begin(), links.end());
+  links.erase(std::unique(links.begin(), links.end()), links.end());
+  for (const auto& l : links) ++h.partners[static_cast<std::size_t>(l.first)];
+  return h;
+}
+
+// Imbalance and owned particles per rank, from the owner of every cell.
+void add_balance(const CellLoad& load, const std::vector<int>& owner, PartitionStats& s,
+                 std::vector<std::int64_t>& owned) {
+  const auto p = static_cast<std::size_t>(s.ranks);
+  std::vector<std::int64_t> work(p, 0);
+  owned.assign(p, 0);
+  for (std::size_t c = 0; c < owner.size(); ++c) {
+    const auto r = static_cast<std::size_t>(owner[c]);
+    work[r] += load.work[c];
+    owned[r] += load.fluid[c] + load.wall[c];
+  }
+  const std::int64_t total = std::accumulate(work.begin(), work.end(), std::int64_t{0});
+  const std::int64_t most = *std::max_element(work.begin(), work.end());
+  s.imbalance =
+      total > 0 ? static_cast<double>(most) * s.ranks / static_cast<double>(total) - 1.0 : 0.0;
+  s.empty_ranks = static_cast<int>(std::count(owned.begin(), owned.end(), 0));
+}
+
+template <int D>
+void add_halo(const CellGrid<D>& grid, const CellLoad& load, const std::vector<int>& owner,
+              const std::vector<std::int64_t>& owned, PartitionStats& s) {
+  const HaloCounts h = count_halo<D>(grid, load, owner, s.ranks);
+  std::int64_t ghosts = 0, particles = 0;
+  double bytes_sum = 0;
+  for (std::size_t r = 0; r < owned.size(); ++r) {
+    ghosts += h.ghosts[r];
+    particles += owned[r];
+    if (owned[r] > 0) {
+      s.ghost_fraction_max = std::max(
+          s.ghost_fraction_max, static_cast<double>(h.ghosts[r]) / static_cast<double>(owned[r]));
+    }
+    const double bytes = 8.0 * (state_doubles(D) * static_cast<double>(h.ghosts[r]) +
+                                wall_state_doubles(D) * static_cast<double>(h.wall_ghosts[r]));
+    s.halo_bytes_max = std::max(s.halo_bytes_max, bytes);
+    bytes_sum += bytes;
+    s.neighbors_max = std::max(s.neighbors_max, h.partners[r]);
+    s.neighbors_mean += h.partners[r];
+  }
+  s.ghost_fraction =
+      particles > 0 ? static_cast<double>(ghosts) / static_cast<double>(particles) : 0;
+  s.halo_bytes_mean = bytes_sum / s.ranks;
+  s.neighbors_mean /= s.ranks;
+}
+
+template <int D>
+PartitionStats measure(const CellGrid<D>& grid, const CellLoad& load, long nonempty, int ranks) {
+  PartitionStats s;
+  s.ranks = ranks;
+  s.feasible = ranks <= nonempty;
+  if (!s.feasible) return s;
+  const auto t0 = std::chrono::steady_clock::now();
+  // The initial partition of a run: no previous map, so no relabelling.
+  const std::vector<int> owner = detail::compute_owners<D>(grid, load.work, {}, false, ranks);
+  s.partition_seconds = seconds_since(t0);
+  std::vector<std::int64_t> owned;
+  add_balance(load, owner, s, owned);
+  add_halo<D>(grid, load, owner, owned, s);
+  return s;
+}
+
+template <int D>
+PartitionReport report(const Case& c, const std::vector<int>& ranks) {
+  const auto t0 = std::chrono::steady_clock::now();
+  PartitionReport r;
+  r.case_name = c.name;
+  r.dimension = D;
+  r.spacing = c.numerics.spacing;
+  SphParticles<D> ps;
+  const InitialCounts counts = build_initial_particles<D>(c, ps);
+  r.fluid = static_cast<std::int64_t>(counts.fluid);
+  r.wall = static_cast<std::int64_t>(counts.wall);
+  // The grid exactly as Simulation builds it (its NeighborList's cut-off);
+  // the communicator only matters to partition(), which is not called.
+  const NeighborList<D> nl(2.0 * c.h(), c.numerics.neighbor_skin * 2.0 * c.h());
+  r.cutoff = nl.cutoff();
+  const Decomposition<D> dec(Comm(MPI_COMM_SELF), simulation_domain<D>(c), c.periodic, nl.cutoff());
+  r.dims = dec.grid().dims();
+  const CellLoad load = cell_load<D>(dec, ps);
+  ps = SphParticles<D>();  // the counts per cell are all that is needed now
+  r.nonempty_cells = load.nonempty();
+  r.setup_seconds = seconds_since(t0);
+  for (int p : ranks) r.rows.push_back(measure<D>(dec.grid(), load, r.nonempty_cells, p));
+  return r;
+}
+
+}  // namespace
+
+PartitionReport partition_report(const Case& c, const std::vector<int>& ranks) {
+  return c.dimension == 2 ? report<2>(c, ranks) : report<3>(c, ranks);
+}
+
+std::string format_partition_table(const PartitionReport& r) {
+  const int d = r.dimension;
+  std::string dims = fmt::format("{}", r.dims[0]);
+  for (int k = 1; k < d; ++k) dims += fmt::format(" x {}", r.dims[static_cast<std::size_t>(k)]);
+  std::string out = fmt::format(
+      "case '{}' ({}D): {} resin + {} wall particles, spacing {:.4g} m\n"
+      "cell grid {} (cells >= cut-off {:.4g} m), {} non-empty cells; set-up {:.2f} s\n"
+      "halo per step: {} B per ghost + {} B per wall ghost (update_state, update_wall_state)\n\n",
+      r.case_name, d, r.fluid, r.wall, r.spacing, dims, r.cutoff, r.nonempty_cells, r.setup_seconds,
+      8 * state_doubles(d), 8 * wall_state_doubles(d));
+  out += fmt::format("{:>6} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9}\n", "ranks",
+                     "particles", "imbalance", "ghosts/", "max", "halo kB", "halo kB", "neighbors",
+                     "neighbors", "METIS");
+  out +=
+      fmt::format("{:>6} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9}\n", "",
+                  "per rank", "", "owned", "per rank", "max/step", "mean/step", "max", "mean", "s");
+  const double particles = static_cast<double>(r.fluid + r.wall);
+  for (const PartitionStats& s : r.rows) {
+    if (!s.feasible) {
+      out += fmt::format(
+          "{:>6}  more ranks than the {} non-empty cells: not partitioned "
+          "(refine the case with --scale)\n",
+          s.ranks, r.nonempty_cells);
+      continue;
+    }
+    out += fmt::format(
+        "{:>6} {:>10.0f} {:>9.1f}% {:>8.1f}% {:>8.1f}% {:>11.1f} {:>11.1f} {:>9} {:>9.1f} "
+        "{:>9.3f}\n",
+        s.ranks, particles / s.ranks, 100 * s.imbalance, 100 * s.ghost_fraction,
+        100 * s.ghost_fraction_max, s.halo_bytes_max / 1e3, s.halo_bytes_mean / 1e3,
+        s.neighbors_max, s.neighbors_mean, s.partition_seconds);
+    if (s.empty_ranks > 0)
+      out += fmt::format("       ({} ranks without particles)\n", s.empty_ranks);
+  }
+  return out;
+}
+
+void write_partition_csv(std::ostream& out, const PartitionReport& r) {
+  out << "ranks,particles,nonempty_cells,imbalance,ghost_fraction,ghost_fraction_max,"
+         "halo_bytes_max,halo_bytes_mean,neighbors_max,neighbors_mean,empty_ranks,"
+         "partition_seconds,note\n";
+  const std::int64_t particles = r.fluid + r.wall;
+  for (const PartitionStats& s : r.rows) {
+    out << fmt::format("{},{},{},", s.ranks, particles, r.nonempty_cells);
+    if (!s.feasible) {
+      out << ",,,,,,,,,more ranks than non-empty cells\n";
+      continue;
+    }
+    out << fmt::format("{:.6g},{:.6g},{:.6g},{:.0f},{:.0f},{},{:.4g},{},{:.4g},\n", s.imbalance,
+                       s.ghost_fraction, s.ghost_fraction_max, s.halo_bytes_max, s.halo_bytes_mean,
+                       s.neighbors_max, s.neighbors_mean, s.empty_ranks, s.partition_seconds);
+  }
+}
+
+}  // namespace sphdem

@@ -1,0 +1,350 @@
+// DEM core against hand computations (STYLE habit 8): the pair kernels of
+// src/dem/terms/, the owner rule for pair state, conservation by the loops,
+// and the fiber generator.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "../src/dem/terms/contact_linear.hpp"
+#include "../src/dem/terms/parallel_bond.hpp"
+#include "../src/dem/terms/restitution_damping.hpp"
+#include "sphdem/dem.hpp"
+#include "sphdem/dem_fibers.hpp"
+
+namespace sphdem {
+namespace {
+
+TEST(DemRotation, TwoDIsTheZComponentOfThreeD) {
+  const Vec<3> r(0.3, -1.2, 0), f(2.0, 0.7, 0);
+  const Vec<3> w3(0, 0, 1.7);
+  Rot<2> w2;
+  w2[0] = 1.7;
+  const Vec<2> v2 = cross<2>(w2, Vec<2>(r[0], r[1]));
+  const Vec<3> v3 = cross<3>(w3, r);
+  EXPECT_DOUBLE_EQ(v2[0], v3[0]);
+  EXPECT_DOUBLE_EQ(v2[1], v3[1]);
+  EXPECT_DOUBLE_EQ(moment<2>(Vec<2>(r[0], r[1]), Vec<2>(f[0], f[1]))[0], moment<3>(r, f)[2]);
+}
+
+// ANALYTIC.md 2 lists zeta(e): 0.5 -> 0.215454, 0.8 -> 0.070850 (6 digits).
+TEST(DemContact, DampingFromRestitution) {
+  const double m = 2.0, k = 50.0;
+  EXPECT_NEAR(terms::restitution_damping(0.5, m, k) / (2 * std::sqrt(m * k)), 0.215454, 1e-6);
+  EXPECT_NEAR(terms::restitution_damping(0.8, m, k) / (2 * std::sqrt(m * k)), 0.070850, 1e-6);
+  EXPECT_EQ(terms::restitution_damping(1.0, m, k), 0.0);
+}
+
+TEST(DemContact, HandValuesAndCoulombCap) {
+  const terms::LinearContact c{100.0, 50.0, 2.0, 0.0, 0.5};
+  const Vec<2> n(1, 0);
+  Vec<2> xi = Vec<2>::Zero();
+  // Approaching at 0.5 with a tangential slide of 0.1: F_n = 100*0.01 + 2*0.5 = 2,
+  // xi = 0.1*0.01, F_t = -50 xi = -0.05 (under the cap 1).
+  Vec<2> f = terms::linear_contact<2>(c, n, 0.01, Vec<2>(-0.5, 0.1), 0.01, xi);
+  EXPECT_NEAR(f[0], 2.0, 1e-14);
+  EXPECT_NEAR(f[1], -0.05, 1e-14);
+  EXPECT_NEAR(xi[1], 1e-3, 1e-16);
+  // A fast slide: capped at mu F_n = 1, spring reset to F_t / -k_t.
+  f = terms::linear_contact<2>(c, n, 0.01, Vec<2>(-0.5, 10.0), 0.01, xi);
+  EXPECT_NEAR(f[1], -1.0, 1e-14);
+  EXPECT_NEAR(xi[1], 1.0 / 50.0, 1e-15);
+  // Pulling apart (F_n < 0): no friction.
+  f = terms::linear_contact<2>(c, n, 0.001, Vec<2>(1.0, 10.0), 0.01, xi);
+  EXPECT_NEAR(f[0], 0.1 - 2.0, 1e-14);
+  EXPECT_EQ(f[1], 0.0);
+}
+
+TEST(DemContact, HistoryTurnsWithTheContactPlane) {
+  Vec<3> xi(0.0, 2.0, 0.0);
+  const Vec<3> n = Vec<3>(0.1, 1.0, 0.3).normalized();
+  terms::rotate_into_plane<3>(xi, n);
+  EXPECT_NEAR(xi.dot(n), 0.0, 1e-14);  // round-off of the projection, magnified by the rescale
+  EXPECT_NEAR(xi.norm(), 2.0, 1e-15);
+}
+
+TEST(DemBond, Sections) {
+  const double r = 0.3;
+  const auto s2 = terms::bond_section<2>(r, 1.0);
+  EXPECT_DOUBLE_EQ(s2.area, 0.6);
+  EXPECT_DOUBLE_EQ(s2.inertia, std::pow(2 * r, 3) / 12);  // rectangle 2r x 1
+  const auto s3 = terms::bond_section<3>(r, 1.0);
+  EXPECT_DOUBLE_EQ(s3.area, std::numbers::pi * r * r);
+  EXPECT_DOUBLE_EQ(s3.inertia, std::numbers::pi * std::pow(r, 4) / 4);
+  EXPECT_DOUBLE_EQ(s3.polar, 2 * s3.inertia);
+}
+
+// One increment each of stretch, shear, bending and twisting against the
+// incremental law of ANALYTIC.md 6, and breakage at the strengths.
+TEST(DemBond, IncrementsStressesAndBreakage) {
+  const double rbar = 0.5, dt = 0.01;
+  terms::BondLaw law{terms::bond_section<3>(rbar, 1.0), 1e3, 4e3, 1e9, 1e9};
+  const Vec<3> n(1, 0, 0);
+  DemBond<3> b;
+  b.partner = 1;
+  // Stretch at 0.1 and shear at 0.2 (y): dF_n = -kn A 1e-3, dF_s = -ks A 2e-3.
+  ASSERT_TRUE(terms::parallel_bond_update<3>(law, rbar, n, Vec<3>(0.1, 0.2, 0), Rot<3>::Zero(), 0.0,
+                                             dt, b));
+  const double A = law.s.area;
+  EXPECT_NEAR(b.fn, -1e3 * A * 1e-3, 1e-15);
+  EXPECT_NEAR(b.fs[1], -4e3 * A * 2e-3, 1e-15);
+  EXPECT_NEAR(b.sigma, 1e3 * 1e-3, 1e-12);  // -F_n/A
+  EXPECT_NEAR(b.tau, 4e3 * 2e-3, 1e-12);    // |F_s|/A
+  // Bend about z by 0.01 and twist about n by 0.02.
+  DemBond<3> m;
+  ASSERT_TRUE(terms::parallel_bond_update<3>(law, rbar, n, Vec<3>::Zero(), Rot<3>(0.02, 0, 0.01),
+                                             0.0, dt, m));
+  EXPECT_NEAR(m.mb[2], -1e3 * law.s.inertia * 0.01, 1e-15);
+  EXPECT_NEAR(m.mt, -4e3 * law.s.polar * 0.02, 1e-15);
+  EXPECT_NEAR(m.sigma, 1e3 * 0.01 * rbar, 1e-12);  // |M_b| Rbar / I
+  EXPECT_NEAR(m.tau, 4e3 * 0.02 * rbar, 1e-12);    // |M_t| Rbar / J
+  // Compression never breaks (P&C's signed criterion); tension does.
+  law.sigma_c = 5.0;
+  DemBond<3> c;
+  EXPECT_TRUE(
+      terms::parallel_bond_update<3>(law, rbar, n, Vec<3>(-10, 0, 0), Rot<3>::Zero(), 0.0, dt, c));
+  DemBond<3> t;
+  EXPECT_TRUE(terms::parallel_bond_update<3>(law, rbar, n, Vec<3>(0.4, 0, 0), Rot<3>::Zero(), 0.0,
+                                             dt, t));  // sigma = 4
+  EXPECT_FALSE(terms::parallel_bond_update<3>(law, rbar, n, Vec<3>(0.2, 0, 0), Rot<3>::Zero(), 0.0,
+                                              dt, t));  // sigma = 6
+  EXPECT_TRUE(t.broken);
+  EXPECT_EQ(t.fn, 0.0);
+  EXPECT_NEAR(t.sigma, 6.0, 1e-12);  // the stress that broke it is kept
+}
+
+// 2D: the bending moment is the scalar -kn I dtheta; no twisting.
+TEST(DemBond, TwoDBending) {
+  const double rbar = 0.5;
+  const terms::BondLaw law{terms::bond_section<2>(rbar, 1.0), 1e3, 4e3, 1e9, 1e9};
+  DemBond<2> b;
+  Rot<2> dth;
+  dth[0] = 0.01;
+  terms::parallel_bond_update<2>(law, rbar, Vec<2>(0, 1), Vec<2>::Zero(), dth, 0.0, 1e-3, b);
+  EXPECT_NEAR(b.mb[0], -1e3 * law.s.inertia * 0.01, 1e-15);
+  EXPECT_NEAR(b.sigma, 1e3 * 0.01 * rbar, 1e-12);
+}
+
+// A random cluster of bonded and touching particles, no walls or gravity:
+// the loops apply every pair force and couple to both sides, so linear and
+// angular momentum (about the origin, with spin) are conserved to round-off.
+template <int D>
+void check_conservation() {
+  DemSystem<D> sys;
+  sys.params.kn = 1e4;
+  sys.params.youngs_modulus = 1e5;
+  sys.params.restitution = 0.7;
+  sys.params.friction = 0.4;
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 30; ++i) {
+    Vec<D> x;
+    for (int d = 0; d < D; ++d) x[d] = 1.5 * u(rng);
+    sys.add_particle(x, 0.2 + 0.05 * u(rng), 1000);
+  }
+  for (int i = 0; i + 1 < 30; i += 3) sys.add_bond(i, i + 1);
+  auto& ps = sys.particles;
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    for (int d = 0; d < D; ++d) ps.v[i][d] = u(rng);
+    for (int d = 0; d < ps.omega[i].size(); ++d) ps.omega[i][d] = 5 * u(rng);
+  }
+  auto momenta = [&] {
+    Vec<D> p = Vec<D>::Zero();
+    Rot<D> l = Rot<D>::Zero();
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      p += ps.mass[i] * ps.v[i];
+      l += moment<D>(ps.x[i], ps.mass[i] * ps.v[i]) + ps.inertia[i] * ps.omega[i];
+    }
+    return std::pair{p, l};
+  };
+  const auto [p0, l0] = momenta();
+  const double dt = sys.stable_dt();
+  int contacts = 0;
+  for (int s = 0; s < 2000; ++s) {
+    sys.step(dt);
+    for (std::size_t i = 0; i < ps.size(); ++i)
+      for (const auto& c : ps.contacts[i]) contacts += c.partner >= 0;
+  }
+  EXPECT_GT(contacts, 100);  // the test exercised contacts
+  const auto [p1, l1] = momenta();
+  double scale = 0;
+  for (std::size_t i = 0; i < ps.size(); ++i) scale += ps.mass[i];
+  EXPECT_LT((p1 - p0).norm() / scale, 1e-13);
+  EXPECT_LT((l1 - l0).norm() / scale, 1e-12);
+}
+TEST(DemLoops, MomentumConserved2D) {
+  check_conservation<2>();
+}
+TEST(DemLoops, MomentumConserved3D) {
+  check_conservation<3>();
+}
+
+// Owner rule: the pair's history sits on the smaller gid, keyed by the
+// larger; it survives while in contact and is dropped at separation.
+TEST(DemLoops, ContactHistoryOnOwnerDroppedAtSeparation) {
+  DemSystem<2> sys;
+  sys.params.kn = 1e3;
+  sys.params.friction = 0.5;
+  sys.add_particle(Vec<2>(0.19, 0), 0.1, 1000);  // gid 0
+  sys.add_particle(Vec<2>(0, 0), 0.1, 1000);     // gid 1
+  auto& ps = sys.particles;
+  ps.v[1] = Vec<2>(0, 0.01);
+  const double dt = 1e-4;
+  sys.step(dt);
+  EXPECT_EQ(ps.contacts[0][0].partner, 1);
+  EXPECT_EQ(ps.contacts[1][0].partner, DemContact<2>::kNone);
+  EXPECT_GT(ps.contacts[0][0].xi.norm(), 0.0);
+  const double xi1 = ps.contacts[0][0].xi.norm();
+  sys.step(dt);
+  EXPECT_GT(ps.contacts[0][0].xi.norm(), xi1);  // accumulated across steps
+  ps.x[1] = Vec<2>(-0.5, 0);
+  sys.step(dt);
+  EXPECT_EQ(ps.contacts[0][0].partner, DemContact<2>::kNone);
+}
+
+// A bonded pair gets no contact force: set overlapping, the unstressed bond
+// leaves both at rest. Once broken, the contact pushes them apart.
+TEST(DemLoops, BondedPairsGetNoContactForce) {
+  DemSystem<2> sys;
+  sys.params.kn = 1e3;
+  sys.params.youngs_modulus = 1e4;
+  sys.params.tensile_strength = 1.0;
+  sys.add_particle(Vec<2>(0, 0), 0.1, 1000);
+  sys.add_particle(Vec<2>(0.15, 0), 0.1, 1000);
+  sys.add_bond(1, 0);  // stored on gid 0 whatever the order given
+  EXPECT_EQ(sys.particles.bonds[0][0].partner, 1);
+  EXPECT_EQ(sys.particles.bonds[1][0].partner, -1);
+  for (int s = 0; s < 10; ++s) sys.step(1e-4);
+  EXPECT_EQ(sys.particles.v[0].norm(), 0.0);
+  EXPECT_EQ(sys.particles.contacts[0][0].partner, DemContact<2>::kNone);
+  sys.particles.bonds[0][0].broken = true;
+  sys.invalidate_forces();
+  sys.step(1e-4);
+  EXPECT_LT(sys.particles.v[0][0], 0.0);
+  EXPECT_EQ(sys.particles.contacts[0][0].partner, 1);
+}
+
+// Walls: the contact point of a segment end, the wall's history key.
+TEST(DemLoops, SegmentEndAndPlaneWalls) {
+  DemSystem<2> sys;
+  sys.params.kn = 1e3;
+  sys.walls.push_back(DemWall<2>::segment(Vec<2>(-1, 0), Vec<2>(0, 0)));
+  sys.walls.push_back(DemWall<2>::plane(Vec<2>(0, -1), Vec<2>(0, 1)));
+  // Beyond the segment's end a, at 45 degrees: pushed along (1, 1)/sqrt 2.
+  sys.add_particle(Vec<2>(0.06, 0.06), 0.1, 1000);
+  sys.step(1e-5);
+  const Vec<2> f = sys.particles.force[0];
+  EXPECT_NEAR(f[0], f[1], 1e-12 * f.norm());
+  EXPECT_NEAR(f.norm(), 1e3 * (0.1 - std::sqrt(2) * 0.06), 1e-3 * f.norm());
+  EXPECT_EQ(sys.particles.contacts[0][0].partner, wall_key(0));
+}
+
+// dt = 0.2 sqrt(m/k_n) for a loose disk (rotation: I/(k_t R^2) = 1.75 m/k_n).
+TEST(DemStep, StableTimeStepOfALooseDisk) {
+  DemSystem<2> sys;
+  sys.params.kn = 1e3;
+  sys.add_particle(Vec<2>::Zero(), 0.1, 1000);
+  EXPECT_DOUBLE_EQ(sys.stable_dt(), 0.2 * std::sqrt(sys.particles.mass[0] / 1e3));
+}
+
+// The paper's bath (DESIGN 2.4): 30 x 30 mm, fibers of 4 particles of
+// d = 0.25 mm. Checked by brute force over all pairs.
+template <int D>
+void check_placement(const DemSystem<D>& sys, const FiberSpec<D>& s, int fibers) {
+  const auto& ps = sys.particles;
+  ASSERT_EQ(ps.size(), static_cast<std::size_t>(fibers * s.particles_per_fiber));
+  const double r = s.radius;
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    for (int d = 0; d < D; ++d) {
+      EXPECT_GE(ps.x[i][d] - r, s.lo[d] - 1e-15);
+      EXPECT_LE(ps.x[i][d] + r, s.hi[d] + 1e-15);
+    }
+    for (std::size_t j = i + 1; j < ps.size(); ++j) {
+      const double dist = (ps.x[j] - ps.x[i]).norm();
+      if (ps.fiber[i] == ps.fiber[j]) continue;
+      ASSERT_GE(dist, 2 * r * (1 - 1e-12)) << i << " " << j;
+    }
+  }
+  // Chains: consecutive particles touch and are bonded on the smaller gid.
+  for (std::size_t i = 0; i + 1 < ps.size(); ++i) {
+    if (ps.fiber[i] != ps.fiber[i + 1]) {
+      EXPECT_EQ(ps.bonds[i][0].partner, -1);
+      continue;
+    }
+    EXPECT_EQ(ps.bonds[i][0].partner, ps.gid[i + 1]);
+    EXPECT_NEAR((ps.x[i + 1] - ps.x[i]).norm(), 2 * r, 1e-15);
+  }
+}
+
+FiberSpec<2> bath(int count, std::uint64_t seed) {
+  FiberSpec<2> s;
+  s.count = count;
+  s.radius = 0.125e-3;
+  s.lo = Vec<2>(-15e-3, 30e-3);
+  s.hi = Vec<2>(15e-3, 60e-3);
+  s.angle = 0.0;  // perpendicular to the injection (-y)
+  s.seed = seed;
+  return s;
+}
+
+TEST(DemFibers, PaperBath175And375) {
+  for (const auto& [n, frac] : {std::pair{175, 0.0382}, std::pair{375, 0.0818}}) {
+    DemSystem<2> sys;
+    const FiberSpec<2> s = bath(n, 3);
+    const FiberPlacement p = place_fibers(s, sys);
+    EXPECT_EQ(p.fibers, n);
+    EXPECT_NEAR(p.fraction, frac, 5e-5);  // 175*4*pi*0.125^2/900 = 3.818 %
+    check_placement(sys, s, n);
+  }
+}
+
+TEST(DemFibers, FractionGivesTheSmallestCountReachingIt) {
+  DemSystem<2> sys;
+  FiberSpec<2> s = bath(0, 3);
+  s.fraction = 0.038;
+  s.angle.reset();                              // random orientation
+  EXPECT_EQ(place_fibers(s, sys).fibers, 175);  // 0.038*900/(4 pi 0.125^2) = 174.2
+  check_placement(sys, s, 175);
+}
+
+TEST(DemFibers, DeterministicForASeed) {
+  DemSystem<2> a, b, c;
+  place_fibers(bath(175, 11), a);
+  place_fibers(bath(175, 11), b);
+  place_fibers(bath(175, 12), c);
+  EXPECT_EQ(a.particles.x, b.particles.x);
+  EXPECT_NE(a.particles.x, c.particles.x);
+}
+
+TEST(DemFibers, ThreeDRandomOrientation) {
+  DemSystem<3> sys;
+  FiberSpec<3> s;
+  s.count = 300;
+  s.lo = Vec<3>(0, 0, 0);
+  s.hi = Vec<3>(5e-3, 5e-3, 5e-3);
+  s.seed = 5;
+  place_fibers(s, sys);
+  check_placement(sys, s, 300);
+}
+
+TEST(DemFibers, ImpossibleFractionIsAClearError) {
+  DemSystem<2> sys;
+  FiberSpec<2> s = bath(0, 3);
+  s.fraction = 0.6;  // above what random sequential placement of rods can reach
+  s.attempts_per_fiber = 2000;
+  try {
+    place_fibers(s, sys);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("could not place fiber"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(sys.particles.size(), 0u);  // left unchanged
+  s.fraction = 0;
+  s.count = 1;
+  s.hi = Vec<2>(-14.5e-3, 60e-3);  // 0.5 mm wide: a 1 mm fiber along x cannot fit
+  EXPECT_THROW(place_fibers(s, sys), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace sphdem

@@ -1,0 +1,89 @@
+// `sphdem partition` (docs/scaling.md): the report partitions the same cell
+// grid a run builds, balances the plate case, and says so when there are
+// more ranks than non-empty cells instead of failing.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <sstream>
+#include <string>
+
+#include "../src/app/partition_command.hpp"
+#include "sphdem/config.hpp"
+#include "sphdem/errors.hpp"
+#include "sphdem/partition_report.hpp"
+#include "sphdem/solver.hpp"
+
+namespace sphdem {
+namespace {
+
+const std::string kPlate = std::string(SPHDEM_SOURCE_DIR) + "/inputs/plate.yaml";
+
+TEST(Partition, PlateIsBalancedAtTwoAndFourRanks) {
+  const PartitionReport r = partition_report(load_case(kPlate), {1, 2, 4});
+  ASSERT_EQ(r.rows.size(), 3u);
+  EXPECT_EQ(r.fluid, 10000);
+  EXPECT_DOUBLE_EQ(r.rows[0].imbalance, 0.0);
+  EXPECT_DOUBLE_EQ(r.rows[0].ghost_fraction, 0.0);  // the plate is not periodic
+  for (std::size_t k = 1; k < 3; ++k) {
+    const PartitionStats& s = r.rows[k];
+    EXPECT_TRUE(s.feasible);
+    EXPECT_LT(s.imbalance, 0.2) << s.ranks << " ranks";
+    EXPECT_GT(s.ghost_fraction, 0.0);
+    EXPECT_GE(s.ghost_fraction_max, s.ghost_fraction);
+    EXPECT_GE(s.halo_bytes_max, s.halo_bytes_mean);
+    EXPECT_GE(s.neighbors_max, 1);
+    EXPECT_LT(s.neighbors_max, s.ranks);
+    EXPECT_EQ(s.empty_ranks, 0);
+  }
+}
+
+// The report must describe the grid a run uses, not a look-alike.
+TEST(Partition, GridIsTheRunsGrid) {
+  const Case c = load_case(kPlate);
+  const Comm self(MPI_COMM_SELF);
+  RunOptions opt;
+  opt.write_output = false;
+  const Simulation<2> sim(c, self, opt);
+  const PartitionReport r = partition_report(c, {2});
+  EXPECT_EQ(r.dims, sim.decomposition().grid().dims());
+  EXPECT_EQ(r.fluid, sim.global_fluid_count());
+  EXPECT_EQ(r.wall, sim.global_wall_count());
+}
+
+TEST(Partition, MoreRanksThanCellsIsReportedNotFatal) {
+  const PartitionReport r = partition_report(load_case(kPlate), {2, 100000});
+  ASSERT_EQ(r.rows.size(), 2u);
+  EXPECT_TRUE(r.rows[0].feasible);
+  EXPECT_FALSE(r.rows[1].feasible);
+  EXPECT_NE(format_partition_table(r).find("more ranks than the"), std::string::npos);
+  std::ostringstream csv;
+  write_partition_csv(csv, r);
+  EXPECT_NE(csv.str().find("100000,13200,"), std::string::npos);
+  EXPECT_NE(csv.str().find("more ranks than non-empty cells"), std::string::npos);
+}
+
+TEST(Partition, CsvHasOneRowPerRankCount) {
+  std::ostringstream csv;
+  write_partition_csv(csv, partition_report(load_case(kPlate), {1, 2, 4}));
+  std::istringstream in(csv.str());
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_EQ(header,
+            "ranks,particles,nonempty_cells,imbalance,ghost_fraction,ghost_fraction_max,"
+            "halo_bytes_max,halo_bytes_mean,neighbors_max,neighbors_mean,empty_ranks,"
+            "partition_seconds,note");
+  int rows = 0;
+  while (std::getline(in, line)) ++rows;
+  EXPECT_EQ(rows, 3);
+}
+
+TEST(Partition, RankListParsing) {
+  EXPECT_EQ(app::parse_rank_list("64,256,1024,4096"), (std::vector<int>{64, 256, 1024, 4096}));
+  EXPECT_EQ(app::parse_rank_list("1"), (std::vector<int>{1}));
+  for (const char* bad : {"0", "-4", "x", "2,", "2,,4", "", "1.5", "99999999999"}) {
+    EXPECT_THROW(app::parse_rank_list(bad), InputError) << bad;
+  }
+}
+
+}  // namespace
+}  // namespace sphdem
