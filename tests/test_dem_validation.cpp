@@ -105,6 +105,36 @@ TEST(DemImpact, PairRestitutionAndDuration3D) {
   check_impact<3>(true);
 }
 
+// A moving wall (the piston) hits a particle at rest: in the wall's frame
+// the particle arrives at V and leaves at e V, so it ends at (1 + e) V.
+// Same discretisation as above: 1 % holds with margin.
+template <int D>
+void check_moving_wall() {
+  DemSystem<D> sys;
+  sys.params.kn = 1e5;
+  sys.params.restitution = 0.8;
+  const double r = 1e-3, V = 0.3;
+  sys.walls.push_back(DemWall<D>::plane(axis<D>(1, 2.05 * r), axis<D>(1, -1), axis<D>(1, -V)));
+  sys.add_particle(axis<D>(1, r), r, kRho);
+  const double dt = 0.01 * std::sqrt(sys.particles.mass[0] / 1e5);
+  while (sys.time() < 0.05 * r / V + 0.01) {
+    sys.step(dt);
+    if (sys.particles.v[0][1] < -V * 1.5 &&
+        sys.particles.contacts[0][0].partner == DemContact<D>::kNone)
+      break;
+  }
+  const double err = std::abs(-sys.particles.v[0][1] / (1.8 * V) - 1);
+  std::printf("moving wall D=%d: rebound speed err %.2e\n", D, err);
+  EXPECT_LT(err, 0.01);
+}
+
+TEST(DemImpact, MovingWall2D) {
+  check_moving_wall<2>();
+}
+TEST(DemImpact, MovingWall3D) {
+  check_moving_wall<3>();
+}
+
 // --------------------------------------------------------------- sliding
 
 // A disk (sphere) launched along a floor at v0 without spin slides, and
@@ -194,11 +224,13 @@ Vec<D> settle(DemSystem<D>& sys, double omega_1) {
 }
 
 // Cantilever of N = 10 bonds (11 particles), tip load F with delta/L = 1 %
-// (small-deflection theory). Discretisation error of the chain: the bond
-// rotations integrate M exactly (midpoint rule of a linear M), the
-// deflection integrates the rotations by the trapezoid rule, +1/(4 N^2) =
-// 0.25 %; shear compliance adds kbar* I / (A l^2 N^2) ~ 0.05 %. 5 % (the
-// issue) is ample; we also require the expected sign.
+// (small-deflection theory). The chain's own error is known: the bond
+// rotations integrate the linear moment exactly (midpoint rule), the
+// deflection integrates the concave rotation by the trapezoid rule, which
+// falls short by 1/(4 N^2) = 0.25 %, and the shear springs add
+// 3 kbar* (I/A) / (l^2 N^2) (0.06 % in 2D, 0.05 % in 3D). The measured error
+// must be within 5 % (the issue) and within 5e-4 of that prediction
+// (geometric nonlinearity, O((delta/L)^2) = 1e-4, is what remains).
 template <int D>
 void check_cantilever() {
   const int n_bonds = 10;
@@ -212,10 +244,13 @@ void check_cantilever() {
   const double omega_1 = 1.875104 * 1.875104 * std::sqrt(kE * I / (rho_l * std::pow(L, 4)));
   const Vec<D> u = settle(sys, omega_1);
   const double err = -u[1] / delta_target - 1;
-  std::printf("cantilever D=%d: tip deflection err %.3e (expected +%.2e)\n", D, err,
-              0.25 / (n_bonds * n_bonds));
+  const double l = 2 * kR, n2 = n_bonds * n_bonds;
+  const double expected =
+      -0.25 / n2 + 3 * sys.params.kbar_star * I / bond_area<D>(kR) / (l * l * n2);
+  std::printf("cantilever D=%d: tip deflection err %.3e (chain's own error %.3e)\n", D, err,
+              expected);
   EXPECT_LT(std::abs(err), 0.05);
-  EXPECT_NEAR(err, 0.25 / (n_bonds * n_bonds), 0.002);  // the chain's own error, understood
+  EXPECT_NEAR(err, expected, 5e-4);
 }
 
 TEST(DemCantilever, TipDeflection2D) {
@@ -269,11 +304,12 @@ void check_breakage() {
   sys.params.global_damping = 2 * omega_ax;
   const double ramp_time = 200 * 2 * kPi / omega_ax, rate = F_c / ramp_time;
   const double dt = sys.stable_dt();
-  double F_break = -1;
+  double F_break = -1, sigma_others = 0;
   while (F_break < 0 && sys.time() < 2 * ramp_time) {
     const double F = rate * (sys.time() + dt);  // the load at the end of the step
     sys.particles.f_ext.back() = axis<D>(0, F);
     sys.step(dt);
+    for (int b = 0; b < 4; ++b) sigma_others = std::max(sigma_others, sys.bond(b, b + 1)->sigma);
     for (int b = 0; b < 5; ++b) {
       if (sys.bond(b, b + 1)->broken) {
         EXPECT_EQ(b, 4) << "the wrong bond broke";
@@ -281,7 +317,10 @@ void check_breakage() {
       }
     }
   }
-  for (int b = 0; b < 4; ++b) EXPECT_LT(sys.bond(b, b + 1)->sigma, 0.8 * sigma_c);
+  // The thicker bonds peak at sigma_c A(0.8 R) / A(R): 0.8 sigma_c in 2D
+  // (A = 2 Rbar), 0.64 sigma_c in 3D (A = pi Rbar^2); damping adds ~1e-3.
+  EXPECT_LT(sigma_others, (D == 2 ? 0.8 : 0.64) * sigma_c * 1.01);
+  for (int b = 0; b < 4; ++b) EXPECT_FALSE(sys.bond(b, b + 1)->broken);
   const double err = F_break / F_c - 1;
   std::printf("breakage D=%d: load at break err %.3e\n", D, err);
   EXPECT_LT(std::abs(err), 0.01);

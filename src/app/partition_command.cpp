@@ -55,8 +55,8 @@ std::vector<int> parse_rank_list(const std::string& text) {
 CLI::App* add_partition_command(CLI::App& app, PartitionArgs& a) {
   CLI::App* cmd = app.add_subcommand(
       "partition",
-      "Partition a case's initial cell graph for several rank counts without running it; report "
-      "load imbalance, ghost fraction, halo volume and neighbor ranks (docs/scaling.md)");
+      "Partition a case for many rank counts without running it: imbalance, ghosts, halo, "
+      "neighbor ranks (docs/scaling.md)");
   cmd->add_option("case", a.case_file, "Case file (YAML)")->required();
   cmd->add_option("--ranks", a.ranks, "Rank counts, comma-separated: --ranks 64,256,1024,4096")
       ->required();
@@ -71,7 +71,8 @@ CLI::App* add_partition_command(CLI::App& app, PartitionArgs& a) {
       "max/mean - 1 of the work (10 per resin, 3 per wall particle); ghosts/owned in total and\n"
       "the largest per rank (ghosts: particles in cells of another rank's 3^D stencil, an upper\n"
       "bound of the run's halo); halo kB received per step by a rank (8 (2D+1) B per ghost +\n"
-      "8 (D+2) B per wall ghost); neighbor ranks exchanged with; METIS = serial partition time.");
+      "8 (D+2) B per wall ghost); neighbor ranks exchanged with; METIS = serial partition time.\n"
+      "A rank count above the number of non-empty cells is reported, not partitioned.");
   return cmd;
 }
 

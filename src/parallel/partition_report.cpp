@@ -211,7 +211,7 @@ std::string format_partition_table(const PartitionReport& r) {
         100 * s.ghost_fraction_max, s.halo_bytes_max / 1e3, s.halo_bytes_mean / 1e3,
         s.neighbors_max, s.neighbors_mean, s.partition_seconds);
     if (s.empty_ranks > 0)
-      out += fmt::format("       ({} ranks without particles)\n", s.empty_ranks);
+      out += fmt::format("       (ranks left without particles: {})\n", s.empty_ranks);
   }
   return out;
 }
