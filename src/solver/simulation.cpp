@@ -167,6 +167,9 @@ void Simulation<D>::do_step() {
                     step_, time_));
   }
   dt_ = choose_time_step(case_.numerics, sp_, v_max, a_max);
+  // Land on end_time exactly rather than overshoot it by up to a step.
+  const double to_end = case_.numerics.end_time - time_;
+  if (to_end > 0 && to_end < dt_.dt) dt_.dt = to_end;
   const double dt = dt_.dt, half = 0.5 * dt;
 
   for (std::size_t i = 0; i < ps_.n_owned; ++i) {
@@ -258,6 +261,7 @@ std::string Simulation<D>::write_snapshot() {
   }
   SnapshotBuffers<D> buf(ps_, case_.output.fields);
   ++snapshots_;
+  last_snapshot_step_ = step_;
   return writer_->write(step_, time_, buf.views());
 }
 
@@ -316,13 +320,16 @@ RunSummary Simulation<D>::run() {
     }
     throw;
   }
+  // The final state is always on disk, whatever the cadence.
+  if (opt_.write_output && last_snapshot_step_ != step_) write_snapshot();
   RunSummary s;
   s.steps = step_ - step0;
   s.time = time_;
   s.wall_seconds = seconds_since(t0);
   s.particle_steps_per_second =
       s.wall_seconds > 0 ? static_cast<double>(n_fluid_global_) * s.steps / s.wall_seconds : 0;
-  report_progress(s.wall_seconds, s.steps, true);
+  const int every = case_.output.progress_every;
+  if (every <= 0 || step_ % every != 0) report_progress(s.wall_seconds, s.steps, true);
   s.snapshots = snapshots_;
   report_timings(comm_, timers_, s.wall_seconds, opt_.log,
                  opt_.write_output ? opt_.output_dir : std::string());
