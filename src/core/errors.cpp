@@ -7,11 +7,14 @@ namespace sphdem {
 namespace {
 std::string format_input_error(const std::string& file, int line, const std::string& key,
                                const std::string& what) {
+  // Built by appending: GCC 12 at -O3 reports a false -Wrestrict for the
+  // same expression written with operator+.
   std::string s = file;
-  if (line > 0) s += ":" + std::to_string(line);
-  s += ": ";
-  if (!key.empty()) s += "key '" + key + "': ";
-  return s + what;
+  if (line > 0) s.append(":").append(std::to_string(line));
+  s.append(": ");
+  if (!key.empty()) s.append("key '").append(key).append("': ");
+  s.append(what);
+  return s;
 }
 }  // namespace
 
