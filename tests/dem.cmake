@@ -2,3 +2,29 @@
 # generator, and validation against ANALYTIC.md 2, 3 and 6.
 sphdem_test(test_dem SOURCES test_dem.cpp RANKS 1 LABELS "unit;dem")
 sphdem_test(test_dem_validation SOURCES test_dem_validation.cpp RANKS 1 LABELS "validation;dem")
+
+# The DEM-only case end to end (inputs/fibers_only.yaml): the paper's 175
+# fibers, packed into the bath's top 10 mm so that the piston, sped up to
+# 10 m/s, reaches several of them in 20000 DEM steps (0.43 mm of travel,
+# about 2 s); then h5py and ParaView read the output.
+add_test(NAME fibers_only_run
+         COMMAND $<TARGET_FILE:sphdem> run ${PROJECT_SOURCE_DIR}/inputs/fibers_only.yaml -q
+                 --steps 20000 -o ${CMAKE_CURRENT_BINARY_DIR}/fibers_only_out
+                 --set "moving_walls[0].velocity_table=[[0,0,-10]]"
+                 --set "fibers.region.box.min=[-0.015,0.050]" --set output.every_steps=10000)
+set_tests_properties(fibers_only_run PROPERTIES LABELS "dem;cli" TIMEOUT 120
+                                                FIXTURES_SETUP fibers_only_output)
+add_test(NAME fibers_only_h5py
+         COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_fibers_only.py
+                 ${CMAKE_CURRENT_BINARY_DIR}/fibers_only_out --piston-speed 10)
+set_tests_properties(fibers_only_h5py PROPERTIES LABELS "dem;cli;io" TIMEOUT 60
+                                                 FIXTURES_REQUIRED fibers_only_output)
+find_program(SPHDEM_PVPYTHON pvpython)
+if(SPHDEM_PVPYTHON)
+  add_test(NAME fibers_only_paraview
+           COMMAND ${SPHDEM_PVPYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_fibers_paraview.py
+                   ${CMAKE_CURRENT_BINARY_DIR}/fibers_only_out/fibers_only.xdmf 700 525)
+  set_tests_properties(fibers_only_paraview PROPERTIES LABELS "dem;cli;io;paraview" TIMEOUT 120
+                                                       FIXTURES_REQUIRED fibers_only_output)
+endif()
+sphdem_test(test_case_fibers SOURCES test_case_fibers.cpp RANKS 1 2 LABELS "unit;dem")

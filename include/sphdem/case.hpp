@@ -2,6 +2,7 @@
 // The validated contents of a case file (docs/case-file.md), SI units.
 // Produced by config/ (load_case), consumed by geometry/ and solver/.
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -94,6 +95,30 @@ struct ParallelSettings {
   double imbalance_threshold = 0.10;  // re-partition past max/mean - 1 of the per-rank work
 };
 
+// Fibers as chains of bonded DEM particles (DESIGN 2.2, docs/dem.md),
+// placed at random in a box at the start. Lines are kept so that a
+// placement that fails later can still point at the case file.
+struct FiberSettings {
+  int count = 0;             // fibers; 0 when area_fraction is given
+  double area_fraction = 0;  // target area (2D) / volume (3D) fraction of the region
+  int particles_per_fiber = 4;
+  double diameter = 0;                       // particle diameter [m]
+  double density = 0;                        // [kg/m^3]
+  double youngs_modulus = 0;                 // E [Pa]
+  std::optional<double> tensile_strength;    // sigma_c [Pa], none: never breaks in tension
+  std::optional<double> shear_strength;      // tau_c [Pa], none: never breaks in shear
+  double stiffness_ratio = 0.25;             // kbar* = kbar_n / kbar_s
+  double contact_stiffness_fraction = 0.01;  // k_n = fraction * kbar_n * A
+  double restitution = 0.9;
+  double friction = 0.3;
+  Shape region;                 // a box: particles lie fully inside
+  std::optional<double> angle;  // orientation [rad] from +x; none: random
+  std::uint64_t seed = 1;
+  double dt_safety = 0.2;
+  int line = 0;         // of the `fibers:` mapping
+  int amount_line = 0;  // of `count` or `area_fraction`
+};
+
 struct Case {
   std::string name;
   std::string source_file;
@@ -102,7 +127,8 @@ struct Case {
   Resin resin;
   Numerics numerics;
   Mold mold;
-  std::vector<Shape> fill;
+  std::vector<Shape> fill;              // empty: no resin (a DEM-only case)
+  std::optional<FiberSettings> fibers;  // none: resin only
   std::vector<MovingWall> moving_walls;
   std::vector<SlidingWall> sliding_walls;
   Vec3a body_force{};        // [m/s^2]

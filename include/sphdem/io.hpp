@@ -9,10 +9,16 @@
 //   /<set>/id      int64 [N]        global ids
 //   /<set>/position double [N][3]   (z = 0 in 2D, so ParaView sees XYZ)
 //   /<set>/<field> double [N] or [N][3] (vectors padded to 3), attribute "units"
+//   /<set>/lines/  optional two-node line cells between the set's particles
+//                  (bonds of fibers), attribute count M:
+//   /<set>/lines/id        int64 [M]     cell ids, rows in cell-id order
+//   /<set>/lines/nodes     int64 [M][2]  the ends' rows in the set (id - id_min)
+//   /<set>/lines/<field>   double [M] or [M][3]
 // Rows are ordered by global id within each set, whatever the rank count.
 // <dir>/<case>.xdmf lists every snapshot this writer wrote (Temporal
-// collection of Spatial ones, one Polyvertex grid per set with N > 0) and
-// opens in ParaView with XDMFReader or Xdmf3ReaderS.
+// collection of Spatial ones, one Polyvertex grid per set with N > 0, and a
+// Polyline grid "<set>_lines" over the same points for a set with M > 0
+// lines) and opens in ParaView with XDMFReader or Xdmf3ReaderS.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -30,6 +36,14 @@ struct FieldView {
   const double* data = nullptr;  // n_local * components values, row-major
 };
 
+// Two-node line cells between particles of one set (fiber bonds).
+struct LineSetView {
+  std::size_t n_local = 0;              // this rank's cells
+  const std::int64_t* id = nullptr;     // cell ids, a dense range over all ranks
+  const std::int64_t* nodes = nullptr;  // 2 per cell: the ends' particle ids (any rank's)
+  std::vector<FieldView> fields;        // per cell
+};
+
 struct ParticleSetView {
   std::string name;                  // "fluid", "wall", ...
   std::size_t n_local = 0;           // this rank's owned particles
@@ -38,6 +52,8 @@ struct ParticleSetView {
   int dimension = 2;
   const double* position = nullptr;  // n_local * dimension
   std::vector<FieldView> fields;
+  bool has_lines = false;  // every rank agrees
+  LineSetView lines{};
 };
 
 class SnapshotWriter {
@@ -64,6 +80,8 @@ class SnapshotWriter {
     std::int64_t count = 0;
     std::int64_t id_min = 0;  // row = id - id_min, also the XDMF vertex index
     std::vector<std::pair<std::string, int>> fields;  // name, columns in the file (1 or 3)
+    std::int64_t line_count = 0;                      // cells of "<set>/lines"
+    std::vector<std::pair<std::string, int>> line_fields;
   };
   struct Entry {
     std::int64_t step = 0;

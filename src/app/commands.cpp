@@ -8,6 +8,7 @@
 #include "partition_command.hpp"
 #include "sphdem/comm.hpp"
 #include "sphdem/config.hpp"
+#include "sphdem/dem_run.hpp"
 #include "sphdem/errors.hpp"
 #include "sphdem/solver.hpp"
 
@@ -26,6 +27,59 @@ struct RunArgs {
 // Measured one-rank resin throughput (docs/performance.md), used only for
 // the run-time estimate of `sphdem check`.
 constexpr double kParticleStepsPerSecond = 5e6;
+// Measured one-rank DEM throughput of inputs/fibers_only.yaml (docs/dem.md).
+constexpr double kDemParticleStepsPerSecond = 8e6;
+
+RunOptions run_options(const Case& c, const RunArgs& a) {
+  RunOptions opt;
+  opt.output_dir = a.output_dir.empty() ? c.output.directory : a.output_dir;
+  if (a.steps >= 0) opt.max_steps = a.steps;
+  opt.log = a.quiet ? nullptr : &std::cout;
+  return opt;
+}
+
+// A case with fibers and no resin (dem_run.hpp).
+template <int D>
+int run_dem_case(const Case& c, const RunArgs& a, const Comm& comm) {
+  const RunOptions opt = run_options(c, a);
+  DemRun<D> run(c, comm, opt);
+  if (comm.root() && !a.quiet) {
+    std::cout << fmt::format(
+        "sphdem {}: case '{}' ({}D), {} fibers ({} DEM particles, fraction {:.2f} %), no resin, "
+        "{} DEM walls, {} rank(s) (each runs the whole DEM system)\n",
+        SPHDEM_VERSION, c.name, D, run.placement().fibers, run.system().particles.n_owned,
+        100 * run.placement().fraction, run.system().walls.size(), comm.size());
+  }
+  const RunSummary s = run.run();
+  if (comm.root() && !a.quiet) {
+    std::cout << fmt::format(
+        "done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s), {} snapshots in "
+        "{}\n",
+        s.steps, s.time, s.wall_seconds, s.particle_steps_per_second, s.snapshots, opt.output_dir);
+  }
+  return 0;
+}
+
+template <int D>
+int check_dem_case(const Case& c, const Comm& comm) {
+  RunOptions opt;
+  opt.write_output = false;
+  const DemRun<D> run(c, comm, opt);
+  if (!comm.root()) return 0;
+  const double n = static_cast<double>(run.system().particles.n_owned);
+  const double steps = std::ceil(c.numerics.end_time / run.dt());
+  std::cout << fmt::format(
+      "case '{}' ({}D) is valid\n"
+      "  particles: {} DEM in {} fibers (fraction {:.2f} %), no resin; {} DEM walls\n"
+      "  time step: {:.4g} s, limited by dem (fibers.dt_safety {})\n"
+      "  steps to end_time {:.4g} s: about {:.0f}\n"
+      "  run time: about {:.0f} s on one core (at {:.1g} particle-steps/s)\n",
+      c.name, D, run.system().particles.n_owned, run.placement().fibers,
+      100 * run.placement().fraction, run.system().walls.size(), run.dt(), c.fibers->dt_safety,
+      c.numerics.end_time, steps, n * steps / kDemParticleStepsPerSecond,
+      kDemParticleStepsPerSecond);
+  return 0;
+}
 
 template <int D>
 int run_case(const Case& c, const RunArgs& a, const Comm& comm) {
@@ -118,6 +172,11 @@ int dispatch(int argc, char** argv) {
   if (part_cmd->parsed()) return run_partition_command(part, comm);
   const RunArgs& a = run_cmd->parsed() ? run : check;
   const Case c = load_case(a.case_file, a.sets);
+  if (c.fill.empty()) {  // fibers only (the loader requires one of the two)
+    if (run_cmd->parsed())
+      return c.dimension == 2 ? run_dem_case<2>(c, a, comm) : run_dem_case<3>(c, a, comm);
+    return c.dimension == 2 ? check_dem_case<2>(c, comm) : check_dem_case<3>(c, comm);
+  }
   if (run_cmd->parsed())
     return c.dimension == 2 ? run_case<2>(c, a, comm) : run_case<3>(c, a, comm);
   return c.dimension == 2 ? check_case<2>(c, comm) : check_case<3>(c, comm);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "fibers_reader.hpp"
 #include "overrides.hpp"
 #include "shapes.hpp"
 #include "sphdem/config.hpp"
@@ -303,10 +304,25 @@ void warn_mach(Case& c) {
   }
 }
 
+// What the mold holds at the start: resin (fill), fibers, or (later, with
+// the coupling of issue 5) both.
+void read_contents(const Map& top, Case& c) {
+  const std::optional<Value> fill = top.get("fill");
+  const std::optional<Value> fibers = top.get("fibers");
+  if (!fill && !fibers) top.require("fill", " (or fibers: for a case without resin)");
+  if (fill && fibers) {
+    fibers->fail(
+        "fibers with resin need the coupling of issue 5 (not implemented yet); remove fill: for a "
+        "fibers-only run");
+  }
+  if (fill) c.fill = config::read_shape_list(*fill, c.dimension);
+  if (fibers) c.fibers = config::read_fibers(*fibers, c.dimension);
+}
+
 Case read_case(const Value& root, const Source& src) {
   const Map top = root.map({"name", "dimension", "resin", "numerics", "mold", "fill",
                             "moving_walls", "sliding_walls", "body_force", "initial_velocity",
-                            "periodic", "domain", "output", "parallel"});
+                            "periodic", "domain", "output", "parallel", "fibers"});
   Case c;
   c.dimension = read_dimension(top.require("dimension"));
   const std::optional<Value> name = top.get("name");
@@ -314,7 +330,7 @@ Case read_case(const Value& root, const Source& src) {
   c.resin = read_resin(top.require("resin"));
   c.numerics = read_numerics(top.require("numerics"), c.resin);
   c.mold = read_mold(top.require("mold"), c.dimension);
-  c.fill = config::read_shape_list(top.require("fill"), c.dimension);
+  read_contents(top, c);
   read_walls(top, c);
   if (auto x = top.get("body_force")) c.body_force = x->vector(c.dimension);
   if (auto x = top.get("initial_velocity")) c.initial_velocity = x->vector(c.dimension);
@@ -322,6 +338,13 @@ Case read_case(const Value& root, const Source& src) {
   c.output = read_output(top.get("output"), c);
   c.parallel = read_parallel(top.get("parallel"));
   check_fill_inside_mold(c, src);
+  if (c.fibers) {
+    if (auto p = config::point_outside(c.fibers->region, c.mold.shapes, c.dimension)) {
+      src.fail(c.fibers->region.line, c.fibers->region.key,
+               "fiber region lies outside the mold (point " + format_point(*p, c.dimension) +
+                   " is outside)");
+    }
+  }
   warn_mach(c);
   return c;
 }

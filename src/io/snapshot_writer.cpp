@@ -63,6 +63,19 @@ std::string check_set(const ParticleSetView& set, int dimension) {
     if (!names.insert(f.name).second) return where + "field '" + f.name + "' appears twice";
     if (auto problem = check_field(set, f); !problem.empty()) return problem;
   }
+  if (!set.has_lines) return {};
+  if (set.lines.n_local > 0 && (set.lines.id == nullptr || set.lines.nodes == nullptr))
+    return where + "lines without ids or nodes";
+  names.clear();
+  for (const auto& f : set.lines.fields) {
+    if (!names.insert(f.name).second) return where + "line field '" + f.name + "' appears twice";
+    if (f.name == "nodes") return where + "invalid line field name 'nodes'";
+    ParticleSetView as_set;  // the same rules as a particle field, per cell
+    as_set.name = set.name;
+    as_set.dimension = set.dimension;
+    as_set.n_local = set.lines.n_local;
+    if (auto problem = check_field(as_set, f); !problem.empty()) return problem;
+  }
   return {};
 }
 
@@ -178,6 +191,7 @@ struct Target {
   hid_t rows_scalar;  // file selection for [N]
   hid_t rows_vector;  // file selection for [N][3]
   const std::string& path;
+  hid_t rows_pair = -1;  // file selection for [N][2] (line nodes)
 };
 
 struct Column {
@@ -207,7 +221,7 @@ void write_column(const Target& t, const Column& c, const RowPlan& plan,
                   const std::vector<T>& packed) {
   Handle dset = create_dataset(t, c, static_cast<hsize_t>(plan.n_global));
   if (plan.n_global == 0) return;  // every rank agrees: nothing to transfer
-  const hid_t fspace = c.cols == 1 ? t.rows_scalar : t.rows_vector;
+  const hid_t fspace = c.cols == 1 ? t.rows_scalar : (c.cols == 2 ? t.rows_pair : t.rows_vector);
   const hsize_t mdims[2] = {plan.order.size(), static_cast<hsize_t>(c.cols)};
   Handle mspace(H5Screate_simple(c.cols == 1 ? 1 : 2, mdims, nullptr), H5Sclose,
                 "create memory space", t.path);
@@ -222,8 +236,58 @@ int file_columns(int components) {
   return components == 1 ? 1 : 3;
 }
 
+// The line cells of a set: ids, node rows (id - the set's id_min), fields.
+void write_lines(hid_t set_group, hid_t dxpl, const ParticleSetView& set, const RowPlan& plan,
+                 const std::vector<std::int64_t>& node_rows, const std::string& path) {
+  Handle group(H5Gcreate2(set_group, "lines", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+               "create group", path);
+  h5::write_attribute(group.get(), "count", plan.n_global, path);
+  const Handle rows_scalar = file_selection(plan, 1, path);
+  const Handle rows_pair = file_selection(plan, 2, path);
+  const Handle rows_vector = file_selection(plan, 3, path);
+  const Target t{group.get(), dxpl, rows_scalar.get(), rows_vector.get(), path, rows_pair.get()};
+  write_column(t, {"id", "1", 1, H5T_STD_I64LE, H5T_NATIVE_INT64}, plan,
+               pack(plan, set.lines.id, 1, 1));
+  write_column(t, {"nodes", "1", 2, H5T_STD_I64LE, H5T_NATIVE_INT64}, plan,
+               pack(plan, node_rows.data(), 2, 2));
+  for (const auto& f : set.lines.fields) {
+    const int cols = file_columns(f.components);
+    write_column(t, {f.name.c_str(), f.units.c_str(), cols, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE},
+                 plan, pack(plan, f.data, f.components, cols));
+  }
+}
+
+// The row plan of a set's line cells, as if they were a set of their own.
+RowPlan plan_line_rows(const Comm& comm, const ParticleSetView& set) {
+  ParticleSetView cells;
+  cells.name = set.name + "/lines";
+  cells.n_local = set.has_lines ? set.lines.n_local : 0;
+  cells.id = set.lines.id;
+  return plan_rows(comm, cells);
+}
+
+// Node ids -> rows of the set; every node must be one of the set's ids.
+std::vector<std::int64_t> node_rows(const Comm& comm, const ParticleSetView& set,
+                                    const RowPlan& plan) {
+  std::vector<std::int64_t> rows(2 * set.lines.n_local);
+  bool bad = false;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    rows[k] = set.lines.nodes[k] - plan.id_min;
+    bad = bad || rows[k] < 0 || rows[k] >= plan.n_global;
+  }
+  if (comm.any(bad))
+    throw std::runtime_error("sphdem: set '" + set.name + "': a line refers to a missing particle");
+  return rows;
+}
+
+// A set's line cells, planned before the file exists.
+struct LinePlan {
+  RowPlan rows;
+  std::vector<std::int64_t> nodes;  // 2 per local cell, rows of the set
+};
+
 void write_set(hid_t file, hid_t dxpl, const ParticleSetView& set, const RowPlan& plan,
-               const std::string& path) {
+               const LinePlan* lines, const std::string& path) {
   Handle group(H5Gcreate2(file, set.name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
                "create group", path);
   h5::write_attribute(group.get(), "count", plan.n_global, path);
@@ -238,6 +302,7 @@ void write_set(hid_t file, hid_t dxpl, const ParticleSetView& set, const RowPlan
     write_column(t, {f.name.c_str(), f.units.c_str(), cols, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE},
                  plan, pack(plan, f.data, f.components, cols));
   }
+  if (lines) write_lines(group.get(), dxpl, set, lines->rows, lines->nodes, path);
 }
 
 void write_root_attributes(hid_t file, std::int64_t step, double time, int dimension,
@@ -278,6 +343,12 @@ SnapshotWriter::Entry SnapshotWriter::write_hdf5(const std::string& path, std::i
   check_views(comm_, sets);
   std::vector<RowPlan> plans;
   for (const auto& set : sets) plans.push_back(plan_rows(comm_, set));
+  std::vector<LinePlan> line_plans(sets.size());
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    if (!sets[s].has_lines) continue;
+    line_plans[s].rows = plan_line_rows(comm_, sets[s]);
+    line_plans[s].nodes = node_rows(comm_, sets[s], plans[s]);
+  }
 
   Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "create file access list", path);
   check(H5Pset_fapl_mpio(fapl.get(), comm_.raw(), MPI_INFO_NULL), "select MPI-IO driver", path);
@@ -290,10 +361,15 @@ SnapshotWriter::Entry SnapshotWriter::write_hdf5(const std::string& path, std::i
 
   Entry entry{step, time, {}, {}};
   for (std::size_t s = 0; s < sets.size(); ++s) {
-    write_set(file.get(), dxpl.get(), sets[s], plans[s], path);
-    SetEntry& e =
-        entry.sets.emplace_back(SetEntry{sets[s].name, plans[s].n_global, plans[s].id_min, {}});
+    write_set(file.get(), dxpl.get(), sets[s], plans[s],
+              sets[s].has_lines ? &line_plans[s] : nullptr, path);
+    SetEntry& e = entry.sets.emplace_back(
+        SetEntry{sets[s].name, plans[s].n_global, plans[s].id_min, {}, 0, {}});
     for (const auto& f : sets[s].fields) e.fields.emplace_back(f.name, file_columns(f.components));
+    if (!sets[s].has_lines) continue;
+    e.line_count = line_plans[s].rows.n_global;
+    for (const auto& f : sets[s].lines.fields)
+      e.line_fields.emplace_back(f.name, file_columns(f.components));
   }
   file.close("close file", path);
   return entry;

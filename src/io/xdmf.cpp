@@ -54,9 +54,9 @@ std::string data_item(const std::string& ref, std::int64_t n, int cols, bool int
 }
 
 std::string attribute(const std::string& prefix, const std::string& name, std::int64_t n, int cols,
-                      bool integer) {
-  return fmt::format("          <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"Node\">\n",
-                     escape(name), cols == 1 ? "Scalar" : "Vector") +
+                      bool integer, const char* center = "Node") {
+  return fmt::format("          <Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"{}\">\n",
+                     escape(name), cols == 1 ? "Scalar" : "Vector", center) +
          data_item(prefix + name, n, cols, integer) + "          </Attribute>\n";
 }
 
@@ -74,6 +74,30 @@ std::string topology(const std::string& prefix, std::int64_t n, std::int64_t id_
              n, shift, n) +
          data_item(prefix + "id", n, 1, true, 14) +
          "            </DataItem>\n          </Topology>\n";
+}
+
+// The set's points again, with its line cells (two-node polylines, e.g. the
+// bonds of fibers) as the topology and the cells' fields as cell data.
+template <class Set>
+std::string lines_grid(const std::string& file, const Set& set) {
+  const std::string prefix = file + ":/" + set.name + "/";
+  const std::string lines = prefix + "lines/";
+  std::string out =
+      fmt::format("        <Grid Name=\"{}_lines\" GridType=\"Uniform\">\n", escape(set.name));
+  out += fmt::format(
+      "          <Topology TopologyType=\"Polyline\" NumberOfElements=\"{}\" "
+      "NodesPerElement=\"2\">\n",
+      set.line_count);
+  out += data_item(lines + "nodes", set.line_count, 2, true) + "          </Topology>\n";
+  out += "          <Geometry GeometryType=\"XYZ\">\n";
+  out += data_item(prefix + "position", set.count, 3, false);
+  out += "          </Geometry>\n";
+  out += attribute(prefix, "id", set.count, 1, true);
+  for (const auto& [name, cols] : set.fields)
+    out += attribute(prefix, name, set.count, cols, false);
+  for (const auto& [name, cols] : set.line_fields)
+    out += attribute(lines, name, set.line_count, cols, false, "Cell");
+  return out + "        </Grid>\n";
 }
 
 template <class Set>  // SnapshotWriter::SetEntry, a private type
@@ -108,8 +132,10 @@ std::string SnapshotWriter::xdmf_text(const std::string& title, const std::vecto
     // 17 significant digits round-trip a double, so times match the HDF5 attribute.
     out += fmt::format("        <Time Value=\"{:.17g}\"/>\n", e.time);
     // Empty grids upset ParaView's readers; the set reappears when it has particles.
-    for (const auto& s : e.sets)
+    for (const auto& s : e.sets) {
       if (s.count > 0) out += uniform_grid(e.file, s);
+      if (s.count > 0 && s.line_count > 0) out += lines_grid(e.file, s);
+    }
     out += "      </Grid>\n";
   }
   return out + "    </Grid>\n  </Domain>\n</Xdmf>\n";

@@ -1,0 +1,68 @@
+#pragma once
+// A DEM-only run (a case with `fibers:` and no `fill:`, docs/dem.md): the
+// fibers of the case in the mold, whose shapes' edges are DEM wall
+// segments and whose moving walls (the piston) are moving segments, stepped
+// with velocity Verlet at the stable DEM step. 2D only for now.
+//
+// Ranks: until DEM particles are decomposed, every rank runs the same
+// (deterministic, hence identical) system; rank 0 alone passes the
+// particles to the collective snapshot writer.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "sphdem/case.hpp"
+#include "sphdem/comm.hpp"
+#include "sphdem/dem_fibers.hpp"
+#include "sphdem/solver.hpp"
+#include "sphdem/walls.hpp"
+
+namespace sphdem {
+
+// The DEM walls of a case: every mold shape's edges (fixed), then the
+// edges of each moving wall's region that touch the cavity (moving). In
+// wall_owner, -1 for a fixed wall, else the moving wall's index. Throws
+// InputError in 3D.
+template <int D>
+std::vector<DemWall<D>> dem_walls_from_case(const Case& c, std::vector<int>& wall_owner);
+
+template <int D>
+class DemRun {
+ public:
+  // Places the fibers (InputError naming fibers.count or
+  // fibers.area_fraction when they do not fit).
+  DemRun(const Case& c, const Comm& comm, RunOptions opt = {});
+  ~DemRun();
+
+  // Runs to end_time (or max_steps), writing output on its cadence.
+  RunSummary run();
+  // Advances exactly n steps without output.
+  void advance(std::int64_t n);
+  std::string write_snapshot();  // collective
+
+  const DemSystem<D>& system() const { return sys_; }
+  const FiberPlacement& placement() const { return placement_; }
+  double dt() const { return dt_; }
+  std::int64_t step() const { return step_; }
+  double time() const { return time_; }
+
+ private:
+  void do_step();
+  void check_health() const;
+  void report_progress(double elapsed, std::int64_t steps_done, bool force) const;
+
+  Case case_;
+  const Comm& comm_;
+  RunOptions opt_;
+  DemSystem<D> sys_;
+  FiberPlacement placement_;
+  std::vector<WallMotion> motions_;
+  std::vector<int> wall_owner_;  // per DEM wall: moving wall index or -1
+  std::unique_ptr<SnapshotWriter> writer_;
+  double dt_ = 0, time_ = 0;
+  std::int64_t step_ = 0, snapshots_ = 0, last_snapshot_step_ = -1;
+  Vec<D> lo_, hi_;  // the mold's bounding box, for the health check
+};
+
+}  // namespace sphdem

@@ -1,0 +1,275 @@
+// The DEM-only run (dem_run.hpp): fibers in the mold, pushed by the piston,
+// no resin. Same progress lines and output cadence as the SPH run.
+#include "sphdem/dem_run.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <ostream>
+#include <stdexcept>
+
+#include "dem_snapshot.hpp"
+#include "sphdem/errors.hpp"
+#include "sphdem/geometry.hpp"
+#include "sphdem/io.hpp"
+
+namespace sphdem {
+
+namespace {
+
+template <int D>
+Vec<D> to_vec(const Vec3a& a) {
+  Vec<D> v;
+  for (int k = 0; k < D; ++k) v[k] = a[k];
+  return v;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Corners of a 2D shape in order (a box as a rectangle).
+std::vector<Vec<2>> outline(const Shape& s) {
+  if (s.type == Shape::Type::Box)
+    return {Vec<2>(s.lo[0], s.lo[1]), Vec<2>(s.hi[0], s.lo[1]), Vec<2>(s.hi[0], s.hi[1]),
+            Vec<2>(s.lo[0], s.hi[1])};
+  std::vector<Vec<2>> out;
+  for (const auto& v : s.vertices) out.emplace_back(v[0], v[1]);
+  return out;
+}
+
+// The mold's size, for tolerances.
+double mold_size(const Case& c) {
+  double size = 0;
+  for (const Shape& s : c.mold.shapes)
+    for (const Vec<2>& p : outline(s)) size = std::max(size, p.cwiseAbs().maxCoeff());
+  return size;
+}
+
+template <int D>
+DemParams<D> dem_params(const Case& c) {
+  const FiberSettings& f = *c.fibers;
+  DemParams<D> p;
+  p.youngs_modulus = f.youngs_modulus;
+  p.kbar_star = f.stiffness_ratio;
+  p.tensile_strength = f.tensile_strength.value_or(std::numeric_limits<double>::infinity());
+  p.shear_strength = f.shear_strength.value_or(std::numeric_limits<double>::infinity());
+  p.restitution = f.restitution;
+  p.friction = f.friction;
+  p.dt_safety = f.dt_safety;
+  p.gravity = to_vec<D>(c.body_force);
+  p.kn = contact_stiffness_from_bond(p, 0.5 * f.diameter, f.contact_stiffness_fraction);
+  return p;
+}
+
+template <int D>
+FiberSpec<D> fiber_spec(const FiberSettings& f) {
+  FiberSpec<D> s;
+  s.count = f.count;
+  s.fraction = f.area_fraction;
+  s.particles_per_fiber = f.particles_per_fiber;
+  s.radius = 0.5 * f.diameter;
+  s.density = f.density;
+  s.lo = to_vec<D>(f.region.lo);
+  s.hi = to_vec<D>(f.region.hi);
+  s.angle = f.angle;
+  s.seed = f.seed;
+  return s;
+}
+
+}  // namespace
+
+template <int D>
+std::vector<DemWall<D>> dem_walls_from_case(const Case& c, std::vector<int>& wall_owner) {
+  if constexpr (D == 3) {
+    throw InputError(c.source_file, c.fibers ? c.fibers->line : 0, "fibers",
+                     "fibers without resin run in 2D only for now (3D mold walls as DEM walls "
+                     "are part of issue 4's remaining work)");
+  } else {
+    std::vector<DemWall<2>> walls;
+    wall_owner.clear();
+    auto add_edges = [&](const Shape& s, int owner, bool touching_only) {
+      const std::vector<Vec<2>> p = outline(s);
+      const double tol = 1e-9 * mold_size(c);
+      for (std::size_t k = 0; k < p.size(); ++k) {
+        const Vec<2>& a = p[k];
+        const Vec<2>& b = p[(k + 1) % p.size()];
+        if (touching_only && !union_contains<2>(c.mold.shapes, Vec<2>(0.5 * (a + b)), tol))
+          continue;
+        walls.push_back(DemWall<2>::segment(a, b));
+        wall_owner.push_back(owner);
+      }
+    };
+    for (const Shape& s : c.mold.shapes) add_edges(s, -1, false);
+    for (std::size_t w = 0; w < c.moving_walls.size(); ++w) {
+      const std::size_t before = walls.size();
+      add_edges(c.moving_walls[w].region, static_cast<int>(w), true);
+      if (walls.size() == before) {
+        throw InputError(c.source_file, c.moving_walls[w].line,
+                         fmt::format("moving_walls[{}].region", w),
+                         "no edge of the region touches the mold, so the wall cannot push fibers");
+      }
+    }
+    return walls;
+  }
+}
+
+template <int D>
+DemRun<D>::DemRun(const Case& c, const Comm& comm, RunOptions opt)
+    : case_(c), comm_(comm), opt_(std::move(opt)), motions_(make_wall_motions(c)) {
+  if (!c.fibers) throw std::invalid_argument("sphdem: DemRun needs a case with fibers");
+  if (opt_.output_dir.empty()) opt_.output_dir = c.output.directory;
+  sys_.walls = dem_walls_from_case<D>(c, wall_owner_);
+  sys_.params = dem_params<D>(c);
+  const FiberSettings& f = *c.fibers;
+  try {
+    placement_ = place_fibers(fiber_spec<D>(f), sys_);
+  } catch (const std::runtime_error& e) {
+    const bool from_set = f.amount_line == 0;
+    throw InputError(from_set ? "--set" : c.source_file, f.amount_line,
+                     f.count > 0 ? "fibers.count" : "fibers.area_fraction", e.what());
+  }
+  dt_ = sys_.stable_dt();
+  lo_ = hi_ = sys_.walls.front().point;
+  for (const DemWall<D>& w : sys_.walls) {
+    lo_ = lo_.cwiseMin(w.point).cwiseMin(w.end);
+    hi_ = hi_.cwiseMax(w.point).cwiseMax(w.end);
+  }
+}
+
+template <int D>
+DemRun<D>::~DemRun() = default;
+
+template <int D>
+void DemRun<D>::do_step() {
+  double dt = dt_;
+  const double to_end = case_.numerics.end_time - time_;
+  if (to_end > 0 && to_end < dt) dt = to_end;
+  // Rigid translation at the table's mid-step velocity: exact within a
+  // segment of the piecewise-linear table.
+  for (std::size_t k = 0; k < sys_.walls.size(); ++k) {
+    const int w = wall_owner_[k];
+    if (w >= 0)
+      sys_.walls[k].velocity =
+          to_vec<D>(motions_[static_cast<std::size_t>(w)].velocity(time_ + 0.5 * dt));
+  }
+  sys_.step(dt);
+  time_ += dt;
+  ++step_;
+}
+
+// A fiber through a wall (a step too large for an impact) ends the run.
+template <int D>
+void DemRun<D>::check_health() const {
+  const DemParticles<D>& ps = sys_.particles;
+  const double margin = 0.1 * (hi_ - lo_).maxCoeff();
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    const Vec<D>& x = ps.x[i];
+    if (!x.allFinite() || (x.array() < lo_.array() - margin).any() ||
+        (x.array() > hi_.array() + margin).any()) {
+      throw SimulationError(
+          fmt::format("step {} (t = {:.6g} s): DEM particle {} (fiber {}) left the mold", step_,
+                      time_, ps.gid[i], ps.fiber[i]));
+    }
+  }
+}
+
+template <int D>
+void DemRun<D>::advance(std::int64_t n) {
+  for (std::int64_t s = 0; s < n; ++s) do_step();
+  check_health();
+}
+
+template <int D>
+std::string DemRun<D>::write_snapshot() {
+  if (!writer_) {
+    std::filesystem::create_directories(opt_.output_dir);
+    writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name);
+    if (comm_.root())
+      std::ofstream(std::filesystem::path(opt_.output_dir) / "case.yaml") << case_.source_text;
+  }
+  // Every rank holds the same copy: rank 0 alone contributes it.
+  const DemSnapshotBuffers<D> buf(sys_.particles, comm_.root());
+  ++snapshots_;
+  last_snapshot_step_ = step_;
+  return writer_->write(step_, time_, {buf.view()});
+}
+
+template <int D>
+void DemRun<D>::report_progress(double elapsed, std::int64_t steps_done, bool force) const {
+  if (!opt_.log || !comm_.root()) return;
+  const int every = case_.output.progress_every;
+  if (!force && (every <= 0 || step_ % every != 0)) return;
+  const double n = static_cast<double>(sys_.particles.n_owned);
+  const double rate = elapsed > 0 ? n * static_cast<double>(steps_done) / elapsed : 0;
+  const double remaining_sim = std::max(0.0, case_.numerics.end_time - time_);
+  const double sim_per_wall = elapsed > 0 ? time_ / elapsed : 0;
+  const double eta = sim_per_wall > 0 ? remaining_sim / sim_per_wall : 0;
+  std::string wall_info;
+  for (std::size_t k = 0; k < sys_.walls.size() && wall_info.empty(); ++k) {
+    if (wall_owner_[k] < 0) continue;
+    const WallMotion& m = motions_[static_cast<std::size_t>(wall_owner_[k])];
+    wall_info = fmt::format("  {} v={:.3g} m/s", m.name, sys_.walls[k].velocity.norm());
+  }
+  *opt_.log << fmt::format(
+                   "step {:>8}  t={:.4e} s  dt={:.3e} s (dem)  {:.3g} particle-steps/s  "
+                   "ETA {:02d}:{:02d}:{:02d}{}\n",
+                   step_, time_, dt_, rate, static_cast<int>(eta / 3600),
+                   static_cast<int>(eta / 60) % 60, static_cast<int>(eta) % 60, wall_info)
+            << std::flush;
+}
+
+template <int D>
+RunSummary DemRun<D>::run() {
+  const auto t0 = std::chrono::steady_clock::now();
+  const double end = case_.numerics.end_time;
+  const double every_t = case_.output.every_time.value_or(0.0);
+  const std::int64_t every_s = case_.output.every_steps.value_or(0);
+  const std::int64_t step0 = step_;
+  if (opt_.write_output) write_snapshot();
+  double next_output = time_ + every_t;
+  try {
+    while (time_ < end * (1 - 1e-12) && (!opt_.max_steps || step_ < *opt_.max_steps)) {
+      do_step();
+      if (step_ % 100 == 0) check_health();
+      report_progress(seconds_since(t0), step_ - step0, false);
+      bool out = every_s > 0 && step_ % every_s == 0;
+      if (every_t > 0 && time_ >= next_output * (1 - 1e-12)) {
+        out = true;
+        while (next_output <= time_ * (1 + 1e-12)) next_output += every_t;
+      }
+      if (out && opt_.write_output) write_snapshot();
+    }
+    check_health();
+  } catch (const SimulationError&) {
+    if (opt_.write_output) {
+      const std::string last = write_snapshot();
+      if (opt_.log && comm_.root()) *opt_.log << "last state written to " << last << "\n";
+    }
+    throw;
+  }
+  if (opt_.write_output && last_snapshot_step_ != step_) write_snapshot();
+  RunSummary s;
+  s.steps = step_ - step0;
+  s.time = time_;
+  s.wall_seconds = seconds_since(t0);
+  s.particle_steps_per_second = s.wall_seconds > 0
+                                    ? static_cast<double>(sys_.particles.n_owned) *
+                                          static_cast<double>(s.steps) / s.wall_seconds
+                                    : 0;
+  const int every = case_.output.progress_every;
+  if (every <= 0 || step_ % every != 0) report_progress(s.wall_seconds, s.steps, true);
+  s.snapshots = snapshots_;
+  return s;
+}
+
+template std::vector<DemWall<2>> dem_walls_from_case<2>(const Case&, std::vector<int>&);
+template std::vector<DemWall<3>> dem_walls_from_case<3>(const Case&, std::vector<int>&);
+template class DemRun<2>;
+template class DemRun<3>;
+
+}  // namespace sphdem
