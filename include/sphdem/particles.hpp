@@ -4,6 +4,7 @@
 // for_each_field(), with its policy. Owned particles come first,
 // [0, n_owned), ghosts after, [n_owned, size()).
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -11,6 +12,14 @@ namespace sphdem {
 
 template <int D>
 using Vec = Eigen::Matrix<double, D, 1>;
+
+// The first D components of a case-file vector (stored with 3).
+template <int D>
+Vec<D> to_vec(const std::array<double, 3>& a) {
+  Vec<D> v;
+  for (int k = 0; k < D; ++k) v[k] = a[k];
+  return v;
+}
 
 enum class Kind : std::uint8_t { Fluid = 0, Wall = 1 };
 

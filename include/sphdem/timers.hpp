@@ -14,6 +14,11 @@ namespace sphdem {
 
 enum class Phase { Compute = 0, Halo, Migration, Rebalance, Io, Wait };
 inline constexpr int kPhaseCount = 6;
+
+// Wall-clock seconds since t0.
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 const char* to_string(Phase p);
 
 class PhaseTimers {

@@ -15,14 +15,11 @@
 #include "sphdem/decomposition.hpp"
 #include "sphdem/geometry.hpp"
 #include "sphdem/neighbor.hpp"
+#include "sphdem/timers.hpp"
 
 namespace sphdem {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // What the cells hold at the start: the partition weights exactly as a run
 // computes them (Decomposition::cell_work), and particle counts for the halo.

@@ -16,21 +16,11 @@
 #include "sphdem/errors.hpp"
 #include "sphdem/geometry.hpp"
 #include "sphdem/io.hpp"
+#include "sphdem/timers.hpp"
 
 namespace sphdem {
 
 namespace {
-
-template <int D>
-Vec<D> to_vec(const Vec3a& a) {
-  Vec<D> v;
-  for (int k = 0; k < D; ++k) v[k] = a[k];
-  return v;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Corners of a 2D shape in order (a box as a rectangle).
 std::vector<Vec<2>> outline(const Shape& s) {

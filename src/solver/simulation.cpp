@@ -14,19 +14,6 @@
 
 namespace sphdem {
 
-namespace {
-template <int D>
-Vec<D> to_vec(const Vec3a& a) {
-  Vec<D> v;
-  for (int k = 0; k < D; ++k) v[k] = a[k];
-  return v;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
-
 template <int D>
 Simulation<D>::Simulation(const Case& c, const Comm& comm, RunOptions opt)
     : case_(c),
