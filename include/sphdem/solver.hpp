@@ -98,7 +98,6 @@ class Simulation {
   std::int64_t step_ = 0;
   TimeStep dt_;
   std::int64_t n_fluid_global_ = 0, n_wall_global_ = 0;
-  double next_output_time_ = 0;
   std::int64_t snapshots_ = 0;
   std::int64_t last_snapshot_step_ = -1;
   Decomposition<D> dec_;

@@ -78,6 +78,19 @@ std::string topology(const std::string& prefix, std::int64_t n, std::int64_t id_
 
 // The set's points again, with its line cells (two-node polylines, e.g. the
 // bonds of fibers) as the topology and the cells' fields as cell data.
+// Geometry, ids and per-particle attributes of a set: what its point grid
+// and its fiber-polyline grid share.
+template <class Set>
+std::string point_data(const std::string& prefix, const Set& set) {
+  std::string out = "          <Geometry GeometryType=\"XYZ\">\n";
+  out += data_item(prefix + "position", set.count, 3, false);
+  out += "          </Geometry>\n";
+  out += attribute(prefix, "id", set.count, 1, true);
+  for (const auto& [name, cols] : set.fields)
+    out += attribute(prefix, name, set.count, cols, false);
+  return out;
+}
+
 template <class Set>
 std::string lines_grid(const std::string& file, const Set& set) {
   const std::string prefix = file + ":/" + set.name + "/";
@@ -89,12 +102,7 @@ std::string lines_grid(const std::string& file, const Set& set) {
       "NodesPerElement=\"2\">\n",
       set.line_count);
   out += data_item(lines + "nodes", set.line_count, 2, true) + "          </Topology>\n";
-  out += "          <Geometry GeometryType=\"XYZ\">\n";
-  out += data_item(prefix + "position", set.count, 3, false);
-  out += "          </Geometry>\n";
-  out += attribute(prefix, "id", set.count, 1, true);
-  for (const auto& [name, cols] : set.fields)
-    out += attribute(prefix, name, set.count, cols, false);
+  out += point_data(prefix, set);
   for (const auto& [name, cols] : set.line_fields)
     out += attribute(lines, name, set.line_count, cols, false, "Cell");
   return out + "        </Grid>\n";
@@ -106,12 +114,7 @@ std::string uniform_grid(const std::string& file, const Set& set) {
   std::string out =
       fmt::format("        <Grid Name=\"{}\" GridType=\"Uniform\">\n", escape(set.name));
   out += topology(prefix, set.count, set.id_min);
-  out += "          <Geometry GeometryType=\"XYZ\">\n";
-  out += data_item(prefix + "position", set.count, 3, false);
-  out += "          </Geometry>\n";
-  out += attribute(prefix, "id", set.count, 1, true);
-  for (const auto& [name, cols] : set.fields)
-    out += attribute(prefix, name, set.count, cols, false);
+  out += point_data(prefix, set);
   return out + "        </Grid>\n";
 }
 

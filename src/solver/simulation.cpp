@@ -10,6 +10,7 @@
 #include "sphdem/geometry.hpp"
 #include "sphdem/io.hpp"
 #include "sphdem/ordered_sum.hpp"
+#include "sphdem/output_cadence.hpp"
 #include "sphdem/solver.hpp"
 
 namespace sphdem {
@@ -284,21 +285,14 @@ RunSummary Simulation<D>::run() {
   const auto t0 = std::chrono::steady_clock::now();
   timers_.reset();
   const double end = case_.numerics.end_time;
-  const double every_t = case_.output.every_time.value_or(0.0);
-  const std::int64_t every_s = case_.output.every_steps.value_or(0);
   const std::int64_t step0 = step_;
   if (opt_.write_output) write_snapshot();
-  next_output_time_ = time_ + every_t;
+  OutputCadence cadence(case_.output, time_);
   try {
     while (time_ < end * (1 - 1e-12) && (!opt_.max_steps || step_ < *opt_.max_steps)) {
       do_step();
       report_progress(seconds_since(t0), step_ - step0, false);
-      bool out = (every_s > 0 && step_ % every_s == 0);
-      if (every_t > 0 && time_ >= next_output_time_ * (1 - 1e-12)) {
-        out = true;
-        while (next_output_time_ <= time_ * (1 + 1e-12)) next_output_time_ += every_t;
-      }
-      if (out && opt_.write_output) write_snapshot();
+      if (cadence.due(step_, time_) && opt_.write_output) write_snapshot();
     }
   } catch (const SimulationError&) {
     if (opt_.write_output) {
