@@ -28,3 +28,7 @@ if(SPHDEM_PVPYTHON)
                                                        FIXTURES_REQUIRED fibers_only_output)
 endif()
 sphdem_test(test_case_fibers SOURCES test_case_fibers.cpp RANKS 1 2 LABELS "unit;dem")
+
+# DEM on 1-4 ranks: bitwise the same as one rank (docs/parallel.md).
+sphdem_test(test_dem_parallel SOURCES test_dem_parallel.cpp RANKS 1 2 3 4 LABELS "mpi;dem"
+            TIMEOUT 300)

@@ -84,12 +84,21 @@ TEST(CaseFibers, RunSetUp) {
   RunOptions opt;
   opt.write_output = false;
   DemRun<2> run(c, comm, opt);
-  EXPECT_EQ(run.system().particles.n_owned, 700u);
+  EXPECT_EQ(run.dem().global_count(), 700);
   EXPECT_NEAR(run.placement().fraction, 0.0382, 1e-4);
   EXPECT_GT(run.dt(), 1e-9);
   EXPECT_LT(run.dt(), 2e-9);
-  // Vertical fibers: a fiber's particles share x.
-  EXPECT_NEAR(run.system().particles.x[0][0], run.system().particles.x[3][0], 1e-12);
+  // Vertical fibers: a bond joins particles of the same x.
+  const DemParticles<2>& ps = run.dem().particles();
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    for (const DemBond<2>& b : ps.bonds[i]) {
+      if (b.partner < 0) continue;
+      for (std::size_t j = 0; j < ps.size(); ++j)
+        if (ps.gid[j] == b.partner) {
+          EXPECT_NEAR(ps.x[i][0], ps.x[j][0], 1e-12);
+        }
+    }
+  }
   run.advance(10);
   EXPECT_EQ(run.step(), 10);
 }

@@ -237,7 +237,7 @@ TEST(DemLoops, SegmentEndAndPlaneWalls) {
   const Vec<2> f = sys.particles.force[0];
   EXPECT_NEAR(f[0], f[1], 1e-12 * f.norm());
   EXPECT_NEAR(f.norm(), 1e3 * (0.1 - std::sqrt(2) * 0.06), 1e-3 * f.norm());
-  EXPECT_EQ(sys.particles.contacts[0][0].partner, wall_key(0));
+  EXPECT_EQ(sys.particles.wall_contacts[0][0].partner, wall_key(0));
 }
 
 // dt = 0.2 sqrt(m/k_n) for a loose disk (rotation: I/(k_t R^2) = 1.75 m/k_n).

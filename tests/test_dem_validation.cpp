@@ -120,7 +120,7 @@ void check_moving_wall() {
   while (sys.time() < 0.05 * r / V + 0.01) {
     sys.step(dt);
     if (sys.particles.v[0][1] < -V * 1.5 &&
-        sys.particles.contacts[0][0].partner == DemContact<D>::kNone)
+        sys.particles.wall_contacts[0][0].partner == DemContact<D>::kNone)
       break;
   }
   const double err = std::abs(-sys.particles.v[0][1] / (1.8 * V) - 1);

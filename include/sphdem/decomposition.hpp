@@ -94,9 +94,18 @@ class Decomposition {
   // 1 (0 on one rank). Integer sums, so every rank count agrees exactly.
   double imbalance(const SphParticles<D>& ps) const;
 
-  // Drops the owned particles that lie in other ranks' cells (no
-  // communication: the start, when every rank holds every particle).
-  void keep_owned(SphParticles<D>& ps) const;
+  // Drops the owned particles (SPH or DEM) that lie in other ranks' cells
+  // (no communication: the start, when every rank holds every particle).
+  template <class P>
+  void keep_owned(P& ps) const {
+    ps.clear_ghosts();
+    std::vector<std::size_t> keep;
+    for (std::size_t i = 0; i < ps.n_owned; ++i)
+      if (owner(ps.x[i]) == comm_.rank()) keep.push_back(i);
+    ps.permute_owned(keep);
+    ps.resize(keep.size());
+    ps.n_owned = keep.size();
+  }
 
  private:
   Comm comm_;
@@ -129,7 +138,8 @@ struct MigrationCounts {
 // Collective. Drops the ghosts and sends every owned particle whose cell
 // belongs to another rank to that rank, with its migrating fields. Kept
 // particles stay in their order; arrivals are appended by source rank.
-template <int D>
-MigrationCounts migrate(const Decomposition<D>& dec, SphParticles<D>& ps);
+// Any registry container: SphParticles<D> or DemParticles<D>.
+template <int D, class P>
+MigrationCounts migrate(const Decomposition<D>& dec, P& ps);
 
 }  // namespace sphdem

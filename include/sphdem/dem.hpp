@@ -61,25 +61,78 @@ struct DemWall {
 template <int D>
 std::vector<DemWall<D>> box_walls(const Vec<D>& lo, const Vec<D>& hi);
 
-// Scratch of the DEM loops (cell list, gid -> index map), kept between steps.
+// The pair list of the DEM loops (docs/dem.md, "Pairs"). Built from the
+// slots at a rebuild, it holds every pair (a, b), gid a < gid b, with at
+// least one owned particle, that is bonded or within R_a + R_b + skin; the
+// contact history travels in the pair between rebuilds and goes back to the
+// owner's slots at dem_store_pair_state. Bond state is updated in place in
+// the smaller gid's slots (a ghost's copy on the rank of the larger gid:
+// both ranks compute the same update from the same inputs).
 template <int D>
-struct DemWorkspace {
-  std::vector<std::int32_t> cell_start, cell_items;
-  std::vector<std::int32_t> index_of_gid;
-  bool forces_valid = false;  // force/torque hold the current state's values
+struct DemPair {
+  std::int32_t a = 0, b = 0;                        // local indices, gid[a] < gid[b]
+  std::int8_t bond = -1;                            // slot in a's bonds, -1 = none
+  bool active = false;                              // f, ta, tb hold a force of the last evaluation
+  double cn = 0, ct = 0;                            // contact damping for the pair's effective mass
+  Vec<D> xi = Vec<D>::Zero();                       // tangential spring of the contact
+  Vec<D> f = Vec<D>::Zero();                        // force on b (a receives -f)
+  Rot<D> ta = Rot<D>::Zero(), tb = Rot<D>::Zero();  // torques on a and b
 };
 
-// Contacts, bonds, body and external forces at the current positions.
-// Incremental springs advance by the relative velocities times `dt`
-// (0 for the first evaluation). Overwrites force and torque.
+template <int D>
+struct DemWorkspace {
+  std::vector<DemPair<D>> pairs;
+  // Per owned particle, its pairs in increasing partner gid:
+  // adj[adj_start[i] .. adj_start[i+1]), entry 2 k + (1 if i is b).
+  std::vector<std::int32_t> adj_start, adj;
+  std::vector<Vec<D>> x_ref;  // owned positions at the last build
+  double skin = 0;            // set by dem_build_pairs (0: a quarter of R_min)
+  bool pairs_valid = false;
+  bool forces_valid = false;  // force/torque hold the current state's values
+  std::vector<std::int32_t> cell_start, cell_items;
+  void invalidate() { pairs_valid = forces_valid = false; }
+};
+
+// Builds the pair list over owned and ghost particles (the contact history
+// read from the slots). Throws SimulationError when an owned particle's
+// bond partner is absent (not owned, not a ghost).
+template <int D>
+void dem_build_pairs(const DemParams<D>& p, DemParticles<D>& ps, DemWorkspace<D>& ws);
+
+// Writes the contact history of the pairs back to the slots of their owned
+// owners (call before migration, output and checkpoints).
+template <int D>
+void dem_store_pair_state(DemParticles<D>& ps, const DemWorkspace<D>& ws);
+
+// Largest squared displacement of an owned particle since the last build;
+// the list must be rebuilt once it passes (skin / 2)^2.
+template <int D>
+double dem_max_displacement2(const DemParticles<D>& ps, const DemWorkspace<D>& ws);
+
+// The two halves of a velocity-Verlet sub-step for the parallel driver:
+// kick(dt/2) + drift(dt) of the owned particles and the walls, then (after
+// the ghosts' state is refreshed) forces at the new positions + kick(dt/2).
+template <int D>
+void dem_kick_drift(double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps);
+template <int D>
+void dem_force_kick(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
+                    DemParticles<D>& ps, DemWorkspace<D>& ws);
+
+// Contacts, bonds, body and external forces at the current positions, for
+// the owned particles (the pair list must be valid). Incremental springs
+// advance by the relative velocities times `dt` (0 for the first
+// evaluation). Overwrites force and torque. Each owned particle sums its
+// pairs in increasing partner gid, then its walls: the same sum on any
+// number of ranks.
 template <int D>
 void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
                         DemParticles<D>& ps, DemWorkspace<D>& ws);
 
-// One DEM sub-step of velocity Verlet (kick, drift, forces, kick) for
-// translation and rotation; moves the walls. The external force array
-// f_ext is held constant. Throws SimulationError when a bond partner is
-// missing or a particle runs out of contact slots.
+// One serial DEM sub-step of velocity Verlet (kick, drift, forces, kick)
+// for translation and rotation; moves the walls and rebuilds the pair list
+// when needed. The external force array f_ext is held constant. Throws
+// SimulationError when a bond partner is missing or a particle runs out of
+// contact slots.
 template <int D>
 void dem_step(const DemParams<D>& p, double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps,
               DemWorkspace<D>& ws);
@@ -118,7 +171,7 @@ class DemSystem {
   double stable_dt() const { return stable_dem_dt(params, particles); }
   void step(double dt);
   // Call after changing particles or parameters by hand between steps.
-  void invalidate_forces() { ws_.forces_valid = false; }
+  void invalidate_forces() { ws_.invalidate(); }
   double kinetic_energy() const { return dem_kinetic_energy(particles); }
   double elastic_energy() const { return dem_elastic_energy(params, walls, particles); }
   double time() const { return time_; }
@@ -126,6 +179,7 @@ class DemSystem {
 
  private:
   DemWorkspace<D> ws_;
+  std::int64_t bonds_ = 0;  // bonds made, the next bond id
   double time_ = 0;
   std::int64_t steps_ = 0;
 };

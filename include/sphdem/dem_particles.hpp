@@ -2,14 +2,14 @@
 // Structure-of-arrays storage for DEM particles (disks in 2D, spheres in
 // 3D), with the field registry of STYLE habit 1 (same FieldPolicy as the
 // SPH particles, particles.hpp). Owned particles first, [0, n_owned),
-// ghosts after (none yet: the DEM core is serial, docs/dem.md).
+// ghosts after (docs/parallel.md, "DEM particles").
 //
 // Owner rule (STYLE habit 4, docs/dem.md): the state of a bond and the
 // tangential history of a contact between particles a and b live on the
 // particle with the SMALLER global id, keyed by the partner's global id.
-// They sit in that particle's fixed-size slots, so they migrate and
-// checkpoint with it. Wall contacts are owned by the particle, keyed by
-// wall_key(w) < 0.
+// They sit in that particle's fixed-size slots, so they migrate, go to
+// ghosts at each halo build and checkpoint with it. Wall contacts are the
+// particle's own, in separate slots keyed by wall_key(w) < 0.
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross()
 #include <array>
@@ -53,6 +53,7 @@ inline Rot<D> moment(const Vec<D>& r, const Vec<D>& f) {
 template <int D>
 struct DemBond {
   std::int64_t partner = -1;   // partner's global id, -1 = empty slot
+  std::int64_t id = -1;        // bond id, dense over all bonds (output line cells)
   bool broken = false;         // broken for good (the slot is kept for output)
   double rbar = 0;             // bond radius lambda * min(R1, R2) [m]
   double length0 = 0;          // centre distance at creation [m]
@@ -85,10 +86,16 @@ inline constexpr int kMaxBonds = 2;
 template <int D>
 inline constexpr int kMaxContacts = D == 2 ? 8 : 16;
 
+// Walls touched at once: a corner of the mold is two (three in 3D).
+template <int D>
+inline constexpr int kMaxWallContacts = D == 2 ? 4 : 6;
+
 template <int D>
 using BondSlots = std::array<DemBond<D>, kMaxBonds>;
 template <int D>
 using ContactSlots = std::array<DemContact<D>, kMaxContacts<D>>;
+template <int D>
+using WallContactSlots = std::array<DemContact<D>, kMaxWallContacts<D>>;
 
 // Flags of DemParticles::fixed.
 enum DemFixed : std::uint8_t { kFree = 0, kFixedMotion = 1 };
@@ -116,8 +123,10 @@ struct DemParticles {
   // Owned interaction state (owner rule above).
   std::vector<BondSlots<D>> bonds;
   std::vector<ContactSlots<D>> contacts;
+  std::vector<WallContactSlots<D>> wall_contacts;
 
   std::size_t size() const { return x.size(); }
+  std::size_t n_ghost() const { return size() - n_owned; }
 
   // The registry: f(name, vector, policy) for every per-particle field.
   // Bond and contact slots go to ghosts so that a rank holding the partner
@@ -139,11 +148,14 @@ struct DemParticles {
     f("f_ext", f_ext, FieldPolicy{false, true, true});
     f("bonds", bonds, FieldPolicy{true, true, true});
     f("contacts", contacts, FieldPolicy{true, true, true});
+    f("wall_contacts", wall_contacts, FieldPolicy{false, true, true});
   }
 
   void resize(std::size_t n) {
     for_each_field([n](const char*, auto& field, FieldPolicy) { field.resize(n); });
   }
+  void clear_ghosts() { resize(n_owned); }
+  void permute_owned(const std::vector<std::size_t>& order) { permute_owned_fields(*this, order); }
 
   // Appends one owned particle at rest (only valid while there are no
   // ghosts). Mass and inertia of a disk of depth `thickness` (2D) or a

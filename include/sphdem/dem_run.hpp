@@ -4,9 +4,9 @@
 // segments and whose moving walls (the piston) are moving segments, stepped
 // with velocity Verlet at the stable DEM step. 2D only for now.
 //
-// Ranks: until DEM particles are decomposed, every rank runs the same
-// (deterministic, hence identical) system; rank 0 alone passes the
-// particles to the collective snapshot writer.
+// Ranks: the fibers are decomposed over the mold's bounding box with METIS
+// weighted by the DEM particles per cell (DemDomain); results are bitwise
+// the same on any number of ranks.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -14,6 +14,8 @@
 
 #include "sphdem/case.hpp"
 #include "sphdem/comm.hpp"
+#include "sphdem/decomposition.hpp"
+#include "sphdem/dem_domain.hpp"
 #include "sphdem/dem_fibers.hpp"
 #include "sphdem/solver.hpp"
 #include "sphdem/walls.hpp"
@@ -41,7 +43,8 @@ class DemRun {
   void advance(std::int64_t n);
   std::string write_snapshot();  // collective
 
-  const DemSystem<D>& system() const { return sys_; }
+  const DemDomain<D>& dem() const { return *dem_; }
+  DemDomain<D>& dem() { return *dem_; }
   const FiberPlacement& placement() const { return placement_; }
   double dt() const { return dt_; }
   std::int64_t step() const { return step_; }
@@ -55,14 +58,15 @@ class DemRun {
   Case case_;
   const Comm& comm_;
   RunOptions opt_;
-  DemSystem<D> sys_;
   FiberPlacement placement_;
+  Box<D> box_;  // the mold's bounding box, for the health check and the cells
+  std::unique_ptr<Decomposition<D>> dec_;
+  std::unique_ptr<DemDomain<D>> dem_;
   std::vector<WallMotion> motions_;
   std::vector<int> wall_owner_;  // per DEM wall: moving wall index or -1
   std::unique_ptr<SnapshotWriter> writer_;
   double dt_ = 0, time_ = 0;
   std::int64_t step_ = 0, snapshots_ = 0, last_snapshot_step_ = -1;
-  Vec<D> lo_, hi_;  // the mold's bounding box, for the health check
 };
 
 }  // namespace sphdem

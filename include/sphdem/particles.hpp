@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace sphdem {
@@ -29,6 +30,19 @@ struct FieldPolicy {
   bool migrate;     // travels with a particle that changes rank
   bool checkpoint;  // part of the restartable state
 };
+
+// Reorders the first order.size() particles of any registry container
+// (SPH or DEM): new slot k holds old particle order[k].
+template <class P>
+void permute_owned_fields(P& ps, const std::vector<std::size_t>& order) {
+  ps.for_each_field([&](const char*, auto& field, FieldPolicy) {
+    using Field = std::decay_t<decltype(field)>;
+    Field tmp(field.size());
+    for (std::size_t k = 0; k < order.size(); ++k) tmp[k] = field[order[k]];
+    for (std::size_t k = order.size(); k < field.size(); ++k) tmp[k] = field[k];
+    field.swap(tmp);
+  });
+}
 
 template <int D>
 struct SphParticles {
@@ -109,15 +123,7 @@ struct SphParticles {
   }
 
   // Reorders the owned particles: new slot k holds old particle order[k].
-  void permute_owned(const std::vector<std::size_t>& order) {
-    for_each_field([&](const char*, auto& field, FieldPolicy) {
-      using T = typename std::decay_t<decltype(field)>::value_type;
-      std::vector<T, typename std::decay_t<decltype(field)>::allocator_type> tmp(field.size());
-      for (std::size_t k = 0; k < order.size(); ++k) tmp[k] = field[order[k]];
-      for (std::size_t k = order.size(); k < field.size(); ++k) tmp[k] = field[k];
-      field.swap(tmp);
-    });
-  }
+  void permute_owned(const std::vector<std::size_t>& order) { permute_owned_fields(*this, order); }
 };
 
 }  // namespace sphdem

@@ -2,10 +2,12 @@
 // forces, and the velocity-Verlet sub-step. The physics of each interaction
 // is a pair kernel in terms/ (STYLE habit 7); this file owns the loops.
 //
-// Every pair is evaluated once, by its owner (the smaller gid, see
-// dem_particles.hpp), which holds the pair's state and updates it; the
-// force goes to both particles. (With DEM ghosts the rank of the larger gid
-// will evaluate the same pair from the ghost's copy of the slots, docs/dem.md.)
+// Gather formulation (docs/dem.md, "Pairs"): every pair with an owned
+// particle is evaluated once per rank that owns one of its two particles,
+// from identical inputs (ghosts are exact copies), into a per-pair result;
+// each owned particle then adds its pairs' results in increasing partner
+// gid. The sums, and so the trajectories, are bitwise the same on any
+// number of ranks, with no reverse communication.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -61,163 +63,309 @@ bool wall_contact(const DemWall<D>& w, const Vec<D>& x, double r, Vec<D>& n, dou
   return true;
 }
 
+// Local index of every gid present (owned and ghosts), for the bond partners.
 template <int D>
-const DemContact<D>* find_history(const ContactSlots<D>& old, std::int64_t key) {
-  for (const auto& c : old)
-    if (c.partner == key) return &c;
-  return nullptr;
-}
-
-template <int D>
-void store_history(ContactSlots<D>& slots, int& used, std::int64_t owner, std::int64_t key,
-                   const Vec<D>& xi) {
-  if (used == kMaxContacts<D>) {
-    throw SimulationError(
-        fmt::format("DEM particle {} has more than {} owned contacts", owner, kMaxContacts<D>));
+class GidIndex {
+ public:
+  explicit GidIndex(const DemParticles<D>& ps) {
+    order_.resize(ps.size());
+    for (std::size_t i = 0; i < ps.size(); ++i)
+      order_[i] = {ps.gid[i], static_cast<std::int32_t>(i)};
+    std::sort(order_.begin(), order_.end());
   }
-  slots[used].partner = key;
-  slots[used].xi = xi;
-  ++used;
+  std::int32_t find(std::int64_t gid) const {
+    const auto it =
+        std::lower_bound(order_.begin(), order_.end(), std::make_pair(gid, std::int32_t{-1}));
+    return it != order_.end() && it->first == gid ? it->second : -1;
+  }
+
+ private:
+  std::vector<std::pair<std::int64_t, std::int32_t>> order_;
+};
+
+template <int D>
+int bond_slot(const BondSlots<D>& b, std::int64_t partner) {
+  for (int s = 0; s < kMaxBonds; ++s)
+    if (b[static_cast<std::size_t>(s)].partner == partner && !b[static_cast<std::size_t>(s)].broken)
+      return s;
+  return -1;
 }
 
 template <int D>
-bool bonded(const BondSlots<D>& b, std::int64_t partner) {
-  for (const auto& s : b)
-    if (s.partner == partner && !s.broken) return true;
-  return false;
+Vec<D> contact_history(const ContactSlots<D>& slots, std::int64_t partner) {
+  for (const auto& c : slots)
+    if (c.partner == partner) return c.xi;
+  return Vec<D>::Zero();
+}
+
+template <int D>
+void set_damping(const DemParams<D>& p, const DemParticles<D>& ps, DemPair<D>& pr) {
+  const double ma = ps.mass[static_cast<std::size_t>(pr.a)];
+  const double mb = ps.mass[static_cast<std::size_t>(pr.b)];
+  const terms::LinearContact law = contact_law(p, ma * mb / (ma + mb));
+  pr.cn = law.cn;
+  pr.ct = law.ct;
+}
+
+// Contact or bond of one pair at the current state; fills f, ta, tb.
+template <int D>
+void evaluate_pair(const DemParams<D>& p, double dt, DemParticles<D>& ps, DemPair<D>& pr) {
+  const auto i = static_cast<std::size_t>(pr.a), j = static_cast<std::size_t>(pr.b);
+  const double ri = ps.radius[i], rj = ps.radius[j];
+  const Vec<D> d = ps.x[j] - ps.x[i];
+  const double dist2 = d.squaredNorm();
+  DemBond<D>* bond = pr.bond >= 0 ? &ps.bonds[i][static_cast<std::size_t>(pr.bond)] : nullptr;
+  if (bond && bond->broken) {  // broke at an earlier evaluation: a contact pair now
+    bond = nullptr;
+    pr.bond = -1;
+  }
+  pr.active = false;
+  if (!bond && (dist2 >= (ri + rj) * (ri + rj) || dist2 == 0.0)) {
+    pr.xi.setZero();  // separated: the contact's history ends
+    return;
+  }
+  const double dist = std::sqrt(dist2);
+  const Vec<D> nv = d / dist;
+  const double delta = ri + rj - dist;
+  const Vec<D> arm_i = (ri - 0.5 * delta) * nv, arm_j = -(rj - 0.5 * delta) * nv;
+  const Vec<D> v_rel =
+      ps.v[j] + cross<D>(ps.omega[j], arm_j) - ps.v[i] - cross<D>(ps.omega[i], arm_i);
+  Rot<D> couple = Rot<D>::Zero();
+  if (bond) {
+    const Rot<D> dtheta = (ps.omega[j] - ps.omega[i]) * dt;
+    double spin_n = 0;
+    if constexpr (D == 3) spin_n = 0.5 * (ps.omega[i] + ps.omega[j]).dot(nv);
+    const terms::BondLaw law = bond_law(p, ri, rj, bond->rbar);
+    if (!terms::parallel_bond_update<D>(law, bond->rbar, nv, v_rel, dtheta, spin_n, dt, *bond))
+      return;
+    pr.f = bond->fn * nv + bond->fs;
+    couple = bond->mb;
+    if constexpr (D == 3) couple += bond->mt * nv;
+  } else {
+    const terms::LinearContact law{p.kn, p.kt_over_kn * p.kn, pr.cn, pr.ct, p.friction};
+    pr.f = terms::linear_contact<D>(law, nv, delta, v_rel, dt, pr.xi);
+  }
+  pr.tb = moment<D>(arm_j, pr.f) + couple;
+  pr.ta = -(moment<D>(arm_i, pr.f) + couple);
+  pr.active = true;
+}
+
+// Contacts of owned particle i with the walls, history in its wall slots.
+template <int D>
+void wall_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
+                 DemParticles<D>& ps, std::size_t i) {
+  const WallContactSlots<D> old = ps.wall_contacts[i];
+  WallContactSlots<D>& slots = ps.wall_contacts[i];
+  slots = WallContactSlots<D>{};
+  int used = 0;
+  const double ri = ps.radius[i];
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    Vec<D> nv;
+    double delta;
+    if (!wall_contact<D>(walls[w], ps.x[i], ri, nv, delta)) continue;
+    const std::int64_t key = wall_key(static_cast<int>(w));
+    const Vec<D> arm_i = (ri - delta) * nv;
+    const Vec<D> v_rel = walls[w].velocity - ps.v[i] - cross<D>(ps.omega[i], arm_i);
+    Vec<D> xi = Vec<D>::Zero();
+    for (const auto& c : old)
+      if (c.partner == key) xi = c.xi;
+    const Vec<D> f = terms::linear_contact<D>(contact_law(p, ps.mass[i]), nv, delta, v_rel, dt, xi);
+    if (used == kMaxWallContacts<D>) {
+      throw SimulationError(fmt::format("DEM particle {} touches more than {} walls", ps.gid[i],
+                                        kMaxWallContacts<D>));
+    }
+    slots[static_cast<std::size_t>(used)] = {key, xi};
+    ++used;
+    ps.force[i] -= f;
+    ps.torque[i] -= moment<D>(arm_i, f);
+  }
 }
 
 }  // namespace
 
 template <int D>
-void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
-                        DemParticles<D>& ps, DemWorkspace<D>& ws) {
-  const std::size_t n = ps.size();
-  double r_max = 0;
-  std::int64_t gid_max = -1;
+void dem_build_pairs(const DemParams<D>& p, DemParticles<D>& ps, DemWorkspace<D>& ws) {
+  const std::size_t n = ps.size(), n_own = ps.n_owned;
+  double r_max = 0, r_min = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < n; ++i) {
     r_max = std::max(r_max, ps.radius[i]);
-    gid_max = std::max(gid_max, ps.gid[i]);
+    r_min = std::min(r_min, ps.radius[i]);
   }
-  ws.index_of_gid.assign(static_cast<std::size_t>(gid_max + 1), -1);
-  for (std::size_t i = 0; i < n; ++i) ws.index_of_gid[ps.gid[i]] = static_cast<std::int32_t>(i);
-  dem_detail::CellList<D> cells;
-  cells.build(ps.x, n, 2.0 * r_max, ws.cell_start, ws.cell_items);
+  if (ws.skin <= 0) ws.skin = n > 0 ? 0.25 * r_min : 0;
+  const double skin = ws.skin;
+  const GidIndex<D> index(ps);
+  ws.pairs.clear();
 
-  // Body, external and damping forces.
+  // Bonds first: the smaller gid's slots name the partner.
   for (std::size_t i = 0; i < n; ++i) {
-    ps.force[i] = ps.mass[i] * (p.gravity - p.global_damping * ps.v[i]) + ps.f_ext[i];
-    ps.torque[i] = -p.global_damping * ps.inertia[i] * ps.omega[i];
+    for (int s = 0; s < kMaxBonds; ++s) {
+      const DemBond<D>& b = ps.bonds[i][static_cast<std::size_t>(s)];
+      if (b.partner < 0 || b.broken) continue;
+      const std::int32_t j = index.find(b.partner);
+      if (j < 0) {
+        if (i < n_own) {
+          throw SimulationError(fmt::format(
+              "bond {}-{}: partner {} is neither on this rank nor one of its ghosts (a bond "
+              "stretched past the halo width without breaking?)",
+              ps.gid[i], b.partner, b.partner));
+        }
+        continue;
+      }
+      if (i >= n_own && static_cast<std::size_t>(j) >= n_own) continue;
+      DemPair<D> pr;
+      pr.a = static_cast<std::int32_t>(i);
+      pr.b = j;
+      pr.bond = static_cast<std::int8_t>(s);
+      set_damping(p, ps, pr);
+      ws.pairs.push_back(pr);
+    }
   }
-
+  // Contact candidates within R_a + R_b + skin.
+  dem_detail::CellList<D> cells;
+  cells.build(ps.x, n, 2.0 * r_max + skin, ws.cell_start, ws.cell_items);
   for (std::size_t i = 0; i < n; ++i) {
     const std::int64_t gi = ps.gid[i];
-    const double ri = ps.radius[i];
-    // Contacts: the old history is looked up by key, the slots are refilled
-    // with the pairs still in contact (a separated pair's history is dropped).
-    const ContactSlots<D> old = ps.contacts[i];
-    ps.contacts[i] = ContactSlots<D>{};
-    int used = 0;
     cells.for_each_near(ps.x[i], [&](std::int32_t jj) {
       const auto j = static_cast<std::size_t>(jj);
-      const std::int64_t gj = ps.gid[j];
-      if (gj <= gi) return;
-      const Vec<D> d = ps.x[j] - ps.x[i];
-      const double rj = ps.radius[j];
-      const double dist2 = d.squaredNorm();
-      if (dist2 >= (ri + rj) * (ri + rj) || dist2 == 0.0) return;
-      if (bonded<D>(ps.bonds[i], gj)) return;  // bonded pairs get no contact force
-      const double dist = std::sqrt(dist2);
-      const Vec<D> nv = d / dist;
-      const double delta = ri + rj - dist;
-      const Vec<D> arm_i = (ri - 0.5 * delta) * nv, arm_j = -(rj - 0.5 * delta) * nv;
-      const Vec<D> v_rel =
-          ps.v[j] + cross<D>(ps.omega[j], arm_j) - ps.v[i] - cross<D>(ps.omega[i], arm_i);
-      const DemContact<D>* h = find_history<D>(old, gj);
-      Vec<D> xi = h ? h->xi : Vec<D>::Zero();
-      const double m_eff = ps.mass[i] * ps.mass[j] / (ps.mass[i] + ps.mass[j]);
-      const Vec<D> f = terms::linear_contact<D>(contact_law(p, m_eff), nv, delta, v_rel, dt, xi);
-      store_history<D>(ps.contacts[i], used, gi, gj, xi);
-      ps.force[j] += f;
-      ps.torque[j] += moment<D>(arm_j, f);
-      ps.force[i] -= f;
-      ps.torque[i] -= moment<D>(arm_i, f);
+      if (ps.gid[j] <= gi || (i >= n_own && j >= n_own)) return;
+      const double reach = ps.radius[i] + ps.radius[j] + skin;
+      if ((ps.x[j] - ps.x[i]).squaredNorm() >= reach * reach) return;
+      if (bond_slot<D>(ps.bonds[i], ps.gid[j]) >= 0) return;  // listed as a bond
+      DemPair<D> pr;
+      pr.a = static_cast<std::int32_t>(i);
+      pr.b = jj;
+      pr.xi = contact_history<D>(ps.contacts[i], ps.gid[j]);
+      set_damping(p, ps, pr);
+      ws.pairs.push_back(pr);
     });
-    for (std::size_t w = 0; w < walls.size(); ++w) {
-      Vec<D> nv;
-      double delta;
-      if (!wall_contact<D>(walls[w], ps.x[i], ri, nv, delta)) continue;
-      const std::int64_t key = wall_key(static_cast<int>(w));
-      const Vec<D> arm_i = (ri - delta) * nv;
-      const Vec<D> v_rel = walls[w].velocity - ps.v[i] - cross<D>(ps.omega[i], arm_i);
-      const DemContact<D>* h = find_history<D>(old, key);
-      Vec<D> xi = h ? h->xi : Vec<D>::Zero();
-      const Vec<D> f =
-          terms::linear_contact<D>(contact_law(p, ps.mass[i]), nv, delta, v_rel, dt, xi);
-      store_history<D>(ps.contacts[i], used, gi, key, xi);
-      ps.force[i] -= f;
-      ps.torque[i] -= moment<D>(arm_i, f);
-    }
+  }
 
-    // Bonds owned by i.
-    for (DemBond<D>& b : ps.bonds[i]) {
-      if (b.partner < 0 || b.broken) continue;
-      const std::int32_t jj = b.partner < static_cast<std::int64_t>(ws.index_of_gid.size())
-                                  ? ws.index_of_gid[b.partner]
-                                  : -1;
-      if (jj < 0) {
-        throw SimulationError(
-            fmt::format("bond {}-{}: partner {} is not on this rank", gi, b.partner, b.partner));
+  // Per owned particle, its pairs by partner gid.
+  std::vector<std::int32_t> count(n_own + 1, 0);
+  for (const DemPair<D>& pr : ws.pairs) {
+    if (static_cast<std::size_t>(pr.a) < n_own) ++count[static_cast<std::size_t>(pr.a) + 1];
+    if (static_cast<std::size_t>(pr.b) < n_own) ++count[static_cast<std::size_t>(pr.b) + 1];
+  }
+  for (std::size_t i = 0; i < n_own; ++i) count[i + 1] += count[i];
+  ws.adj_start = count;
+  ws.adj.assign(static_cast<std::size_t>(count[n_own]), 0);
+  for (std::size_t k = 0; k < ws.pairs.size(); ++k) {
+    const DemPair<D>& pr = ws.pairs[k];
+    const auto e = static_cast<std::int32_t>(2 * k);
+    if (static_cast<std::size_t>(pr.a) < n_own) ws.adj[count[static_cast<std::size_t>(pr.a)]++] = e;
+    if (static_cast<std::size_t>(pr.b) < n_own)
+      ws.adj[count[static_cast<std::size_t>(pr.b)]++] = e + 1;
+  }
+  const auto partner_gid = [&](std::int32_t e) {
+    const DemPair<D>& pr = ws.pairs[static_cast<std::size_t>(e / 2)];
+    return ps.gid[static_cast<std::size_t>(e % 2 ? pr.a : pr.b)];
+  };
+  for (std::size_t i = 0; i < n_own; ++i) {
+    std::sort(ws.adj.begin() + ws.adj_start[i], ws.adj.begin() + ws.adj_start[i + 1],
+              [&](std::int32_t x, std::int32_t y) { return partner_gid(x) < partner_gid(y); });
+  }
+  ws.x_ref.assign(ps.x.begin(), ps.x.begin() + static_cast<std::ptrdiff_t>(n_own));
+  ws.pairs_valid = true;
+}
+
+template <int D>
+void dem_store_pair_state(DemParticles<D>& ps, const DemWorkspace<D>& ws) {
+  if (!ws.pairs_valid) return;
+  const std::size_t n_own = ps.n_owned;
+  for (std::size_t i = 0; i < n_own; ++i) {
+    ContactSlots<D>& slots = ps.contacts[i];
+    slots = ContactSlots<D>{};
+    std::size_t used = 0;
+    for (std::int32_t e = ws.adj_start[i]; e < ws.adj_start[i + 1]; ++e) {
+      const std::int32_t entry = ws.adj[static_cast<std::size_t>(e)];
+      if (entry % 2) continue;  // i is b: the pair's state lives on a
+      const DemPair<D>& pr = ws.pairs[static_cast<std::size_t>(entry / 2)];
+      if (pr.bond >= 0 || !pr.active) continue;
+      if (used == slots.size()) {
+        throw SimulationError(fmt::format("DEM particle {} has more than {} owned contacts",
+                                          ps.gid[i], kMaxContacts<D>));
       }
-      const auto j = static_cast<std::size_t>(jj);
-      const double rj = ps.radius[j];
-      const Vec<D> d = ps.x[j] - ps.x[i];
-      const double dist = d.norm();
-      const Vec<D> nv = d / dist;
-      const double delta = ri + rj - dist;
-      const Vec<D> arm_i = (ri - 0.5 * delta) * nv, arm_j = -(rj - 0.5 * delta) * nv;
-      const Vec<D> v_rel =
-          ps.v[j] + cross<D>(ps.omega[j], arm_j) - ps.v[i] - cross<D>(ps.omega[i], arm_i);
-      const Rot<D> dtheta = (ps.omega[j] - ps.omega[i]) * dt;
-      double spin_n = 0;
-      if constexpr (D == 3) spin_n = 0.5 * (ps.omega[i] + ps.omega[j]).dot(nv);
-      const terms::BondLaw law = bond_law(p, ri, rj, b.rbar);
-      if (!terms::parallel_bond_update<D>(law, b.rbar, nv, v_rel, dtheta, spin_n, dt, b)) continue;
-      const Vec<D> f = b.fn * nv + b.fs;
-      Rot<D> couple = b.mb;
-      if constexpr (D == 3) couple += b.mt * nv;
-      ps.force[j] += f;
-      ps.torque[j] += moment<D>(arm_j, f) + couple;
-      ps.force[i] -= f;
-      ps.torque[i] -= moment<D>(arm_i, f) + couple;
+      slots[used++] = {ps.gid[static_cast<std::size_t>(pr.b)], pr.xi};
     }
+  }
+}
+
+template <int D>
+double dem_max_displacement2(const DemParticles<D>& ps, const DemWorkspace<D>& ws) {
+  double m = 0;
+  for (std::size_t i = 0; i < ps.n_owned && i < ws.x_ref.size(); ++i)
+    m = std::max(m, (ps.x[i] - ws.x_ref[i]).squaredNorm());
+  return m;
+}
+
+template <int D>
+void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
+                        DemParticles<D>& ps, DemWorkspace<D>& ws) {
+  const std::size_t n_own = ps.n_owned;
+  for (DemPair<D>& pr : ws.pairs) evaluate_pair<D>(p, dt, ps, pr);
+  for (std::size_t i = 0; i < n_own; ++i) {
+    Vec<D> f = ps.mass[i] * (p.gravity - p.global_damping * ps.v[i]) + ps.f_ext[i];
+    Rot<D> t = -p.global_damping * ps.inertia[i] * ps.omega[i];
+    for (std::int32_t e = ws.adj_start[i]; e < ws.adj_start[i + 1]; ++e) {
+      const std::int32_t entry = ws.adj[static_cast<std::size_t>(e)];
+      const DemPair<D>& pr = ws.pairs[static_cast<std::size_t>(entry / 2)];
+      if (!pr.active) continue;
+      if (entry % 2) {
+        f += pr.f;
+        t += pr.tb;
+      } else {
+        f -= pr.f;
+        t += pr.ta;
+      }
+    }
+    ps.force[i] = f;
+    ps.torque[i] = t;
+    wall_forces<D>(p, dt, walls, ps, i);
   }
   ws.forces_valid = true;
 }
 
 template <int D>
-void dem_step(const DemParams<D>& p, double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps,
-              DemWorkspace<D>& ws) {
-  if (!ws.forces_valid) compute_dem_forces(p, 0.0, walls, ps, ws);
-  const std::size_t n = ps.size();
+void dem_kick_drift(double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps) {
   const double half = 0.5 * dt;
-  auto kick = [&] {
-    for (std::size_t i = 0; i < n; ++i) {
-      if (ps.fixed[i] & kFixedMotion) continue;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (!(ps.fixed[i] & kFixedMotion)) {
       ps.v[i] += (half / ps.mass[i]) * ps.force[i];
       ps.omega[i] += (half / ps.inertia[i]) * ps.torque[i];
     }
-  };
-  kick();
-  for (std::size_t i = 0; i < n; ++i) ps.x[i] += dt * ps.v[i];
+    ps.x[i] += dt * ps.v[i];
+  }
   for (DemWall<D>& w : walls) {
     w.point += dt * w.velocity;
     w.end += dt * w.velocity;
   }
-  // The incremental springs advance by the half-step velocities times dt,
-  // i.e. by exactly the displacement of the drift.
+}
+
+// The incremental springs advance by the half-step velocities times dt,
+// i.e. by exactly the displacement of the drift.
+template <int D>
+void dem_force_kick(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
+                    DemParticles<D>& ps, DemWorkspace<D>& ws) {
   compute_dem_forces(p, dt, walls, ps, ws);
-  kick();
+  const double half = 0.5 * dt;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.fixed[i] & kFixedMotion) continue;
+    ps.v[i] += (half / ps.mass[i]) * ps.force[i];
+    ps.omega[i] += (half / ps.inertia[i]) * ps.torque[i];
+  }
+}
+
+template <int D>
+void dem_step(const DemParams<D>& p, double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps,
+              DemWorkspace<D>& ws) {
+  if (!ws.pairs_valid) dem_build_pairs(p, ps, ws);
+  if (!ws.forces_valid) compute_dem_forces(p, 0.0, walls, ps, ws);
+  dem_kick_drift(dt, walls, ps);
+  if (dem_max_displacement2(ps, ws) > 0.25 * ws.skin * ws.skin) {
+    dem_store_pair_state(ps, ws);
+    dem_build_pairs(p, ps, ws);
+  }
+  dem_force_kick(p, dt, walls, ps, ws);
 }
 
 template <int D>
@@ -275,19 +423,21 @@ double dem_elastic_energy(const DemParams<D>& p, const std::vector<DemWall<D>>& 
       const auto j = static_cast<std::size_t>(index[b.partner]);
       e += terms::parallel_bond_energy<D>(bond_law(p, ps.radius[i], ps.radius[j], b.rbar), b);
     }
-    const terms::LinearContact law = contact_law(p, ps.mass[i]);
     for (const DemContact<D>& c : ps.contacts[i]) {
       if (c.partner == DemContact<D>::kNone) continue;
-      double delta = 0;
-      if (c.partner >= 0) {
-        const auto j = static_cast<std::size_t>(index[c.partner]);
-        delta = ps.radius[i] + ps.radius[j] - (ps.x[j] - ps.x[i]).norm();
-      } else {
-        Vec<D> nv;
-        wall_contact<D>(walls[static_cast<std::size_t>(-2 - c.partner)], ps.x[i], ps.radius[i], nv,
-                        delta);
-      }
+      const auto j = static_cast<std::size_t>(index[c.partner]);
+      const double delta = ps.radius[i] + ps.radius[j] - (ps.x[j] - ps.x[i]).norm();
+      const terms::LinearContact law =
+          contact_law(p, ps.mass[i] * ps.mass[j] / (ps.mass[i] + ps.mass[j]));
       e += terms::linear_contact_energy<D>(law, delta, c.xi);
+    }
+    for (const DemContact<D>& c : ps.wall_contacts[i]) {
+      if (c.partner == DemContact<D>::kNone) continue;
+      Vec<D> nv;
+      double delta = 0;
+      wall_contact<D>(walls[static_cast<std::size_t>(-2 - c.partner)], ps.x[i], ps.radius[i], nv,
+                      delta);
+      e += terms::linear_contact_energy<D>(contact_law(p, ps.mass[i]), delta, c.xi);
     }
   }
   return e;
@@ -298,6 +448,12 @@ double dem_elastic_energy(const DemParams<D>& p, const std::vector<DemWall<D>>& 
                                       DemParticles<D>&, DemWorkspace<D>&);                         \
   template void dem_step<D>(const DemParams<D>&, double, std::vector<DemWall<D>>&,                 \
                             DemParticles<D>&, DemWorkspace<D>&);                                   \
+  template void dem_build_pairs<D>(const DemParams<D>&, DemParticles<D>&, DemWorkspace<D>&);       \
+  template void dem_store_pair_state<D>(DemParticles<D>&, const DemWorkspace<D>&);                 \
+  template double dem_max_displacement2<D>(const DemParticles<D>&, const DemWorkspace<D>&);        \
+  template void dem_kick_drift<D>(double, std::vector<DemWall<D>>&, DemParticles<D>&);             \
+  template void dem_force_kick<D>(const DemParams<D>&, double, const std::vector<DemWall<D>>&,     \
+                                  DemParticles<D>&, DemWorkspace<D>&);                             \
   template double stable_dem_dt<D>(const DemParams<D>&, const DemParticles<D>&);                   \
   template double dem_kinetic_energy<D>(const DemParticles<D>&);                                   \
   template double dem_elastic_energy<D>(const DemParams<D>&, const std::vector<DemWall<D>>&,       \

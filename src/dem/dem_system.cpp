@@ -34,6 +34,7 @@ std::size_t DemParticles<D>::push_owned(std::int64_t id, std::int32_t fiber_id, 
   f_ext[i].setZero();
   bonds[i] = BondSlots<D>{};
   contacts[i] = ContactSlots<D>{};
+  wall_contacts[i] = WallContactSlots<D>{};
   n_owned = i + 1;
   return i;
 }
@@ -80,7 +81,7 @@ std::int64_t DemSystem<D>::add_particle(const Vec<D>& x, double radius, double d
                                         std::int32_t fiber) {
   const auto id = static_cast<std::int64_t>(particles.size());
   particles.push_owned(id, fiber, x, radius, density, params.thickness);
-  ws_.forces_valid = false;
+  ws_.invalidate();
   return id;
 }
 
@@ -102,9 +103,10 @@ void DemSystem<D>::add_bond(std::int64_t a, std::int64_t b) {
     if (s.partner >= 0) continue;
     s = DemBond<D>{};
     s.partner = partner;
+    s.id = bonds_++;
     s.rbar = params.lambda * std::min(particles.radius[i], particles.radius[j]);
     s.length0 = (particles.x[j] - particles.x[i]).norm();
-    ws_.forces_valid = false;
+    ws_.invalidate();
     return;
   }
   throw std::runtime_error(
@@ -122,6 +124,8 @@ const DemBond<D>* DemSystem<D>::bond(std::int64_t a, std::int64_t b) const {
 template <int D>
 void DemSystem<D>::step(double dt) {
   dem_step(params, dt, walls, particles, ws_);
+  // Serial: keep the slots current after every step, for the tests' eyes.
+  dem_store_pair_state(particles, ws_);
   time_ += dt;
   ++steps_;
 }

@@ -300,18 +300,6 @@ double Decomposition<D>::imbalance(const SphParticles<D>& ps) const {
   return static_cast<double>(most) * comm_.size() / static_cast<double>(total) - 1.0;
 }
 
-template <int D>
-void Decomposition<D>::keep_owned(SphParticles<D>& ps) const {
-  ps.clear_ghosts();
-  std::vector<std::size_t> keep;
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    if (owner(ps.x[i]) == comm_.rank()) keep.push_back(i);
-  }
-  ps.permute_owned(keep);
-  ps.resize(keep.size());
-  ps.n_owned = keep.size();
-}
-
 template class CellGrid<2>;
 template class CellGrid<3>;
 template class Decomposition<2>;

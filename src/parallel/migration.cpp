@@ -4,6 +4,7 @@
 #include "exchange.hpp"
 #include "pack.hpp"
 #include "sphdem/decomposition.hpp"
+#include "sphdem/dem_particles.hpp"
 
 namespace sphdem {
 
@@ -29,8 +30,8 @@ struct Departures {
   std::vector<std::size_t> stay;
 };
 
-template <int D>
-Departures sort_departures(const Decomposition<D>& dec, const SphParticles<D>& ps) {
+template <int D, class P>
+Departures sort_departures(const Decomposition<D>& dec, const P& ps) {
   const int me = dec.comm().rank();
   Departures d;
   d.counts.assign(static_cast<std::size_t>(dec.comm().size()), 0);
@@ -55,8 +56,8 @@ Departures sort_departures(const Decomposition<D>& dec, const SphParticles<D>& p
 
 }  // namespace
 
-template <int D>
-MigrationCounts migrate(const Decomposition<D>& dec, SphParticles<D>& ps) {
+template <int D, class P>
+MigrationCounts migrate(const Decomposition<D>& dec, P& ps) {
   ps.clear_ghosts();
   const auto want = [](FieldPolicy p) { return p.migrate; };
   const Departures d = sort_departures(dec, ps);
@@ -82,5 +83,7 @@ template void wrap_periodic<2>(SphParticles<2>&, const Box<2>&, const std::array
 template void wrap_periodic<3>(SphParticles<3>&, const Box<3>&, const std::array<bool, 3>&);
 template MigrationCounts migrate<2>(const Decomposition<2>&, SphParticles<2>&);
 template MigrationCounts migrate<3>(const Decomposition<3>&, SphParticles<3>&);
+template MigrationCounts migrate<2>(const Decomposition<2>&, DemParticles<2>&);
+template MigrationCounts migrate<3>(const Decomposition<3>&, DemParticles<3>&);
 
 }  // namespace sphdem

@@ -1,7 +1,7 @@
 #pragma once
 // Particle records for migration and the halo build: the fields a policy
 // selects (FieldPolicy.migrate or .ghost), in registry order, one particle
-// after another. Driven by SphParticles::for_each_field, so a new field
+// after another. Driven by the container's for_each_field (SPH or DEM), so a new field
 // travels as soon as it is registered with the right policy.
 #include <cstring>
 #include <vector>
@@ -10,8 +10,8 @@
 
 namespace sphdem::detail {
 
-template <int D, class Want>
-std::size_t record_bytes(SphParticles<D>& ps, Want want) {
+template <class P, class Want>
+std::size_t record_bytes(P& ps, Want want) {
   std::size_t bytes = 0;
   ps.for_each_field([&](const char*, auto& field, FieldPolicy p) {
     if (want(p)) bytes += sizeof(typename std::decay_t<decltype(field)>::value_type);
@@ -20,9 +20,8 @@ std::size_t record_bytes(SphParticles<D>& ps, Want want) {
 }
 
 // Appends the records of particles idx[0..n) to `out`.
-template <int D, class Want>
-void pack_records(SphParticles<D>& ps, const std::vector<std::size_t>& idx, Want want,
-                  std::vector<char>& out) {
+template <class P, class Want>
+void pack_records(P& ps, const std::vector<std::size_t>& idx, Want want, std::vector<char>& out) {
   const std::size_t rec = record_bytes(ps, want), base = out.size();
   out.resize(base + rec * idx.size());
   std::size_t offset = 0;
@@ -38,9 +37,8 @@ void pack_records(SphParticles<D>& ps, const std::vector<std::size_t>& idx, Want
 }
 
 // Writes n records from `in` to particles [first, first + n).
-template <int D, class Want>
-void unpack_records(SphParticles<D>& ps, std::size_t first, std::size_t n, Want want,
-                    const char* in) {
+template <class P, class Want>
+void unpack_records(P& ps, std::size_t first, std::size_t n, Want want, const char* in) {
   const std::size_t rec = record_bytes(ps, want);
   std::size_t offset = 0;
   ps.for_each_field([&](const char*, auto& field, FieldPolicy p) {

@@ -114,22 +114,35 @@ DemRun<D>::DemRun(const Case& c, const Comm& comm, RunOptions opt)
     : case_(c), comm_(comm), opt_(std::move(opt)), motions_(make_wall_motions(c)) {
   if (!c.fibers) throw std::invalid_argument("sphdem: DemRun needs a case with fibers");
   if (opt_.output_dir.empty()) opt_.output_dir = c.output.directory;
-  sys_.walls = dem_walls_from_case<D>(c, wall_owner_);
-  sys_.params = dem_params<D>(c);
+  // Every rank places the same fibers (same seed), then keeps its own.
+  DemSystem<D> all;
+  all.walls = dem_walls_from_case<D>(c, wall_owner_);
+  all.params = dem_params<D>(c);
   const FiberSettings& f = *c.fibers;
   try {
-    placement_ = place_fibers(fiber_spec<D>(f), sys_);
+    placement_ = place_fibers(fiber_spec<D>(f), all);
   } catch (const std::runtime_error& e) {
     const bool from_set = f.amount_line == 0;
     throw InputError(from_set ? "--set" : c.source_file, f.amount_line,
                      f.count > 0 ? "fibers.count" : "fibers.area_fraction", e.what());
   }
-  dt_ = sys_.stable_dt();
-  lo_ = hi_ = sys_.walls.front().point;
-  for (const DemWall<D>& w : sys_.walls) {
-    lo_ = lo_.cwiseMin(w.point).cwiseMin(w.end);
-    hi_ = hi_.cwiseMax(w.point).cwiseMax(w.end);
+  dt_ = all.stable_dt();
+  box_.lo = box_.hi = all.walls.front().point;
+  for (const DemWall<D>& w : all.walls) {
+    box_.lo = box_.lo.cwiseMin(w.point).cwiseMin(w.end);
+    box_.hi = box_.hi.cwiseMax(w.point).cwiseMax(w.end);
   }
+  // The cells cover the mold and the health check's margin around it.
+  const double margin = 0.1 * (box_.hi - box_.lo).maxCoeff();
+  const Box<D> cells{box_.lo.array() - margin, box_.hi.array() + margin};
+  const double r = 0.5 * f.diameter;
+  dec_ = std::make_unique<Decomposition<D>>(comm, cells, std::array<bool, 3>{false, false, false},
+                                            DemDomain<D>::reach(r, r));
+  std::vector<std::int64_t> work(static_cast<std::size_t>(dec_->grid().cells()), 0);
+  for (std::size_t i = 0; i < all.particles.n_owned; ++i)
+    ++work[static_cast<std::size_t>(dec_->grid().cell_of(all.particles.x[i]))];
+  dec_->partition(work, true);
+  dem_ = std::make_unique<DemDomain<D>>(*dec_, all.params, all.walls, std::move(all.particles));
 }
 
 template <int D>
@@ -142,13 +155,14 @@ void DemRun<D>::do_step() {
   if (to_end > 0 && to_end < dt) dt = to_end;
   // Rigid translation at the table's mid-step velocity: exact within a
   // segment of the piecewise-linear table.
-  for (std::size_t k = 0; k < sys_.walls.size(); ++k) {
+  std::vector<DemWall<D>>& walls = dem_->walls();
+  for (std::size_t k = 0; k < walls.size(); ++k) {
     const int w = wall_owner_[k];
     if (w >= 0)
-      sys_.walls[k].velocity =
+      walls[k].velocity =
           to_vec<D>(motions_[static_cast<std::size_t>(w)].velocity(time_ + 0.5 * dt));
   }
-  sys_.step(dt);
+  dem_->advance(1, dt);
   time_ += dt;
   ++step_;
 }
@@ -156,16 +170,25 @@ void DemRun<D>::do_step() {
 // A fiber through a wall (a step too large for an impact) ends the run.
 template <int D>
 void DemRun<D>::check_health() const {
-  const DemParticles<D>& ps = sys_.particles;
-  const double margin = 0.1 * (hi_ - lo_).maxCoeff();
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+  const DemParticles<D>& ps = dem_->particles();
+  const double margin = 0.1 * (box_.hi - box_.lo).maxCoeff();
+  std::string error;
+  for (std::size_t i = 0; i < ps.n_owned && error.empty(); ++i) {
     const Vec<D>& x = ps.x[i];
-    if (!x.allFinite() || (x.array() < lo_.array() - margin).any() ||
-        (x.array() > hi_.array() + margin).any()) {
-      throw SimulationError(
-          fmt::format("step {} (t = {:.6g} s): DEM particle {} (fiber {}) left the mold", step_,
-                      time_, ps.gid[i], ps.fiber[i]));
+    if (!x.allFinite() || (x.array() < box_.lo.array() - margin).any() ||
+        (x.array() > box_.hi.array() + margin).any()) {
+      error = fmt::format("step {} (t = {:.6g} s): DEM particle {} (fiber {}) left the mold", step_,
+                          time_, ps.gid[i], ps.fiber[i]);
     }
+  }
+  // Every rank stops together; the lowest rank with a problem names it.
+  const int bad = static_cast<int>(
+      comm_.min(static_cast<std::int64_t>(error.empty() ? comm_.size() : comm_.rank())));
+  if (bad < comm_.size()) {
+    throw SimulationError(bad == comm_.rank() ? error
+                                              : fmt::format("step {}: a DEM particle on rank {} "
+                                                            "left the mold",
+                                                            step_, bad));
   }
 }
 
@@ -183,8 +206,8 @@ std::string DemRun<D>::write_snapshot() {
     if (comm_.root())
       std::ofstream(std::filesystem::path(opt_.output_dir) / "case.yaml") << case_.source_text;
   }
-  // Every rank holds the same copy: rank 0 alone contributes it.
-  const DemSnapshotBuffers<D> buf(sys_.particles, comm_.root());
+  dem_->store_state();
+  const DemSnapshotBuffers<D> buf(dem_->particles(), comm_);
   ++snapshots_;
   last_snapshot_step_ = step_;
   return writer_->write(step_, time_, {buf.view()});
@@ -195,16 +218,16 @@ void DemRun<D>::report_progress(double elapsed, std::int64_t steps_done, bool fo
   if (!opt_.log || !comm_.root()) return;
   const int every = case_.output.progress_every;
   if (!force && (every <= 0 || step_ % every != 0)) return;
-  const double n = static_cast<double>(sys_.particles.n_owned);
+  const double n = static_cast<double>(dem_->global_count());
   const double rate = elapsed > 0 ? n * static_cast<double>(steps_done) / elapsed : 0;
   const double remaining_sim = std::max(0.0, case_.numerics.end_time - time_);
   const double sim_per_wall = elapsed > 0 ? time_ / elapsed : 0;
   const double eta = sim_per_wall > 0 ? remaining_sim / sim_per_wall : 0;
   std::string wall_info;
-  for (std::size_t k = 0; k < sys_.walls.size() && wall_info.empty(); ++k) {
+  for (std::size_t k = 0; k < dem_->walls().size() && wall_info.empty(); ++k) {
     if (wall_owner_[k] < 0) continue;
     const WallMotion& m = motions_[static_cast<std::size_t>(wall_owner_[k])];
-    wall_info = fmt::format("  {} v={:.3g} m/s", m.name, sys_.walls[k].velocity.norm());
+    wall_info = fmt::format("  {} v={:.3g} m/s", m.name, dem_->walls()[k].velocity.norm());
   }
   *opt_.log << fmt::format(
                    "step {:>8}  t={:.4e} s  dt={:.3e} s (dem)  {:.3g} particle-steps/s  "
@@ -242,7 +265,7 @@ RunSummary DemRun<D>::run() {
   s.time = time_;
   s.wall_seconds = seconds_since(t0);
   s.particle_steps_per_second = s.wall_seconds > 0
-                                    ? static_cast<double>(sys_.particles.n_owned) *
+                                    ? static_cast<double>(dem_->global_count()) *
                                           static_cast<double>(s.steps) / s.wall_seconds
                                     : 0;
   const int every = case_.output.progress_every;

@@ -2,22 +2,29 @@
 // Packs DEM particles for the snapshot writer: set "dem" (position,
 // velocity, angular_velocity, radius, fiber) with its bonds as line cells
 // (bond_tensile_stress, bond_shear_stress, broken, fiber, fiber_direction).
+// Each rank passes its owned particles and the bonds they own; a bond's
+// line id is its bond id. The fiber direction is the sum of the fiber's
+// bond vectors (its end-to-end vector, bonds running in gid order), added
+// in bond-id order over all ranks, so it is bitwise rank-independent.
+#include <algorithm>
 #include <cmath>
-#include <map>
 #include <string>
 #include <vector>
 
+#include "sphdem/comm.hpp"
 #include "sphdem/dem_particles.hpp"
 #include "sphdem/io.hpp"
+#include "sphdem/ordered_sum.hpp"
 
 namespace sphdem {
 
 template <int D>
 class DemSnapshotBuffers {
  public:
-  // contribute = false: this rank passes no rows (another holds the copy).
-  DemSnapshotBuffers(const DemParticles<D>& ps, bool contribute) {
-    if (!contribute) return;
+  // Collective (the fiber directions). The slots must be current
+  // (DemDomain::store_state).
+  DemSnapshotBuffers(const DemParticles<D>& ps, const Comm& comm) {
+    const std::vector<Vec<D>> dir = fiber_directions(ps, comm);
     for (std::size_t i = 0; i < ps.n_owned; ++i) {
       id_.push_back(ps.gid[i]);
       for (int k = 0; k < D; ++k) {
@@ -27,8 +34,9 @@ class DemSnapshotBuffers {
       for (int k = 0; k < (D == 2 ? 1 : 3); ++k) omega_.push_back(ps.omega[i][k]);
       radius_.push_back(ps.radius[i]);
       fiber_.push_back(static_cast<double>(ps.fiber[i]));
+      for (int k = 0; k < D; ++k) point_direction_.push_back(direction_of(dir, ps.fiber[i])[k]);
     }
-    pack_bonds(ps);
+    pack_bonds(ps, dir);
   }
 
   ParticleSetView view() const {
@@ -40,7 +48,8 @@ class DemSnapshotBuffers {
     v.position = position_.data();
     v.fields = {{"velocity", "m/s", D, velocity_.data()},
                 {"radius", "m", 1, radius_.data()},
-                {"fiber", "1", 1, fiber_.data()}};
+                {"fiber", "1", 1, fiber_.data()},
+                {"fiber_direction", "1", D, point_direction_.data()}};
     if constexpr (D == 2) {
       v.fields.push_back({"angular_velocity", "rad/s", 1, omega_.data()});
     } else {
@@ -59,19 +68,34 @@ class DemSnapshotBuffers {
   }
 
  private:
-  // End-to-end unit direction of every fiber, its first nonzero component
-  // positive (a fiber has no head).
-  static std::map<std::int32_t, Vec<D>> fiber_directions(const DemParticles<D>& ps) {
-    std::map<std::int32_t, std::pair<std::size_t, std::size_t>> ends;  // lowest, highest gid
+  // Unit end-to-end direction of every fiber (by fiber id), its first
+  // nonzero component positive (a fiber has no head).
+  static std::vector<Vec<D>> fiber_directions(const DemParticles<D>& ps, const Comm& comm) {
+    std::int64_t n_fibers = 0;
+    for (std::size_t i = 0; i < ps.n_owned; ++i)
+      n_fibers = std::max<std::int64_t>(n_fibers, ps.fiber[i] + 1);
+    n_fibers = comm.max(n_fibers);
+    std::vector<std::pair<std::int64_t, std::size_t>> index;  // gid -> local, owned and ghosts
+    for (std::size_t i = 0; i < ps.size(); ++i) index.emplace_back(ps.gid[i], i);
+    std::sort(index.begin(), index.end());
+    std::vector<OrderedTerm> terms;
     for (std::size_t i = 0; i < ps.n_owned; ++i) {
       if (ps.fiber[i] < 0) continue;
-      auto [it, fresh] = ends.emplace(ps.fiber[i], std::make_pair(i, i));
-      if (ps.gid[i] < ps.gid[it->second.first]) it->second.first = i;
-      if (ps.gid[i] > ps.gid[it->second.second]) it->second.second = i;
+      for (const DemBond<D>& b : ps.bonds[i]) {
+        if (b.partner < 0) continue;
+        const auto it =
+            std::lower_bound(index.begin(), index.end(), std::make_pair(b.partner, std::size_t{0}));
+        if (it == index.end() || it->first != b.partner) continue;  // beyond the halo
+        const Vec<D> d = ps.x[it->second] - ps.x[i];
+        for (int k = 0; k < D; ++k) terms.push_back({b.id, ps.fiber[i] * D + k, d[k]});
+      }
     }
-    std::map<std::int32_t, Vec<D>> out;
-    for (const auto& [f, e] : ends) {
-      Vec<D> d = ps.x[e.second] - ps.x[e.first];
+    const std::vector<KeySum> sums =
+        ordered_sums(comm, terms, static_cast<std::size_t>(n_fibers * D));
+    std::vector<Vec<D>> out(static_cast<std::size_t>(n_fibers), Vec<D>::Zero());
+    for (std::size_t f = 0; f < out.size(); ++f) {
+      Vec<D> d;
+      for (int k = 0; k < D; ++k) d[k] = sums[f * D + static_cast<std::size_t>(k)].sum;
       const double n = d.norm();
       d = n > 0 ? Vec<D>(d / n) : Vec<D>::Zero();
       for (int k = 0; k < D; ++k) {
@@ -84,25 +108,30 @@ class DemSnapshotBuffers {
     return out;
   }
 
-  void pack_bonds(const DemParticles<D>& ps) {
-    const std::map<std::int32_t, Vec<D>> dir = fiber_directions(ps);
+  static Vec<D> direction_of(const std::vector<Vec<D>>& dir, std::int32_t fiber) {
+    return fiber >= 0 && static_cast<std::size_t>(fiber) < dir.size()
+               ? dir[static_cast<std::size_t>(fiber)]
+               : Vec<D>::Zero();
+  }
+
+  void pack_bonds(const DemParticles<D>& ps, const std::vector<Vec<D>>& dir) {
     for (std::size_t i = 0; i < ps.n_owned; ++i) {
       for (const DemBond<D>& b : ps.bonds[i]) {
         if (b.partner < 0) continue;
-        line_id_.push_back(static_cast<std::int64_t>(line_id_.size()));
+        line_id_.push_back(b.id);
         nodes_.insert(nodes_.end(), {ps.gid[i], b.partner});
         sigma_.push_back(b.sigma);
         tau_.push_back(b.tau);
         broken_.push_back(b.broken ? 1.0 : 0.0);
         line_fiber_.push_back(static_cast<double>(ps.fiber[i]));
-        const auto it = dir.find(ps.fiber[i]);
-        for (int k = 0; k < D; ++k) direction_.push_back(it != dir.end() ? it->second[k] : 0.0);
+        const Vec<D> d = direction_of(dir, ps.fiber[i]);
+        for (int k = 0; k < D; ++k) direction_.push_back(d[k]);
       }
     }
   }
 
   std::vector<std::int64_t> id_, line_id_, nodes_;
-  std::vector<double> position_, velocity_, omega_, radius_, fiber_;
+  std::vector<double> position_, velocity_, omega_, radius_, fiber_, point_direction_;
   std::vector<double> sigma_, tau_, broken_, line_fiber_, direction_;
 };
 

@@ -1,0 +1,137 @@
+#pragma once
+// Which ranks need a ghost copy of a particle (docs/parallel.md, "Halo"):
+// shared by the SPH halo and the DEM halo, and the ghost build itself.
+#include <algorithm>
+#include <array>
+#include <vector>
+
+#include "exchange.hpp"
+#include "pack.hpp"
+#include "sphdem/decomposition.hpp"
+
+namespace sphdem::detail {
+
+template <int D>
+struct GhostTarget {
+  int rank;
+  Vec<D> shift;
+};
+
+// Distance from x (in cell c along axis k) to the neighbor cell at offset o.
+template <int D>
+inline double gap(const CellGrid<D>& g, const Vec<D>& x, int k, long c, long o) {
+  if (o < 0) return std::max(0.0, x[k] - g.lower(k, c));
+  if (o > 0) return std::max(0.0, g.lower(k, c + 1) - x[k]);
+  return 0.0;
+}
+
+// The neighbor cell at offset o of cell c, wrapped across periodic faces
+// (shift: what the copy's position gains), or -1 outside a closed face.
+template <int D>
+inline long offset_cell(const CellGrid<D>& g, const typename CellGrid<D>::Coords& c,
+                        const std::array<long, 3>& o, Vec<D>& shift) {
+  typename CellGrid<D>::Coords m = c;
+  shift.setZero();
+  for (int k = 0; k < D; ++k) {
+    const auto uk = static_cast<std::size_t>(k);
+    m[uk] = c[uk] + o[uk];
+    if (m[uk] >= 0 && m[uk] < g.dims()[uk]) continue;
+    if (!g.periodic(k)) return -1;
+    const bool below = m[uk] < 0;
+    m[uk] += below ? g.dims()[uk] : -g.dims()[uk];
+    shift[k] = below ? g.length(k) : -g.length(k);
+  }
+  return g.index(m);
+}
+
+// Every (rank, shift) that needs a copy of the owned particle at x: the
+// owners of the neighbor cells within `range` of x, except this rank
+// without a shift (the particle itself).
+template <int D>
+inline void ghost_targets(const Decomposition<D>& dec, const Vec<D>& x, double range,
+                          std::vector<GhostTarget<D>>& out) {
+  out.clear();
+  const CellGrid<D>& g = dec.grid();
+  const auto c = g.coords(x);
+  // A hair wider than the neighbor search (which keeps r^2 < range^2), so
+  // rounding in the cell bounds can only add a ghost, never lose one.
+  const double r2 = range * range * (1.0 + 1e-9);
+  const long z = D == 3 ? 1 : 0;
+  for (long oz = -z; oz <= z; ++oz)
+    for (long oy = -1; oy <= 1; ++oy)
+      for (long ox = -1; ox <= 1; ++ox) {
+        const std::array<long, 3> o{ox, oy, oz};
+        if (ox == 0 && oy == 0 && oz == 0) continue;
+        double d2 = 0.0;
+        for (int k = 0; k < D; ++k) {
+          const double d =
+              gap<D>(g, x, k, c[static_cast<std::size_t>(k)], o[static_cast<std::size_t>(k)]);
+          d2 += d * d;
+        }
+        if (d2 >= r2) continue;
+        GhostTarget<D> t{0, Vec<D>::Zero()};
+        const long cell = offset_cell<D>(g, c, o, t.shift);
+        if (cell < 0) continue;
+        t.rank = dec.owner_of_cell(cell);
+        if (t.rank == dec.comm().rank() && t.shift.isZero(0.0)) continue;
+        const auto same = [&](const GhostTarget<D>& u) {
+          return u.rank == t.rank && u.shift == t.shift;
+        };
+        if (std::none_of(out.begin(), out.end(), same)) out.push_back(t);
+      }
+}
+
+// Collective. Drops the ghosts of `ps` (SPH or DEM particles) and appends
+// the new ones after the owned particles, ordered by source rank, then by
+// the source's local order, with every field of FieldPolicy.ghost. Fills
+// the plan that the per-step state updates reuse: routes, the owned source
+// of each copy sent (grouped by rank) and its periodic shift (not applied
+// here: the first state update does it).
+template <int D, class P>
+void build_ghosts(const Decomposition<D>& dec, P& ps, double range, MessageRoute& send,
+                  MessageRoute& recv, std::vector<std::size_t>& send_index,
+                  std::vector<Vec<D>>& send_shift) {
+  ps.clear_ghosts();
+  const MPI_Comm comm = dec.comm().raw();
+  const auto ranks = static_cast<std::size_t>(dec.comm().size());
+
+  // Copies grouped by destination rank (counting sort keeps local order).
+  std::vector<std::pair<int, std::size_t>> copies;  // rank, owned index
+  std::vector<Vec<D>> shifts;
+  std::vector<GhostTarget<D>> targets;
+  std::vector<std::int64_t> counts(ranks, 0);
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    ghost_targets<D>(dec, ps.x[i], range, targets);
+    for (const GhostTarget<D>& t : targets) {
+      copies.emplace_back(t.rank, i);
+      shifts.push_back(t.shift);
+      ++counts[static_cast<std::size_t>(t.rank)];
+    }
+  }
+  send = route_from_counts(counts);
+  recv = route_from_counts(transpose_counts(comm, counts));
+  std::vector<std::size_t> next(ranks + 1, 0);
+  for (std::size_t r = 0; r < ranks; ++r)
+    next[r + 1] = next[r] + static_cast<std::size_t>(counts[r]);
+  send_index.assign(copies.size(), 0);
+  send_shift.assign(copies.size(), Vec<D>::Zero());
+  for (std::size_t k = 0; k < copies.size(); ++k) {
+    const std::size_t at = next[static_cast<std::size_t>(copies[k].first)]++;
+    send_index[at] = copies[k].second;
+    send_shift[at] = shifts[k];
+  }
+
+  // Every ghost field once (the constants are never sent again).
+  const auto want = [](FieldPolicy p) { return p.ghost; };
+  std::vector<char> out;
+  pack_records(ps, send_index, want, out);
+  const std::size_t rec = record_bytes(ps, want);
+  std::vector<char> in(recv.total() * rec);
+  exchange(comm, send, out.data(), recv, in.data(), MPI_BYTE, rec);
+  const std::size_t n_own = ps.n_owned;
+  ps.resize(n_own + recv.total());
+  unpack_records(ps, n_own, recv.total(), want, in.data());
+  ps.n_owned = n_own;
+}
+
+}  // namespace sphdem::detail
