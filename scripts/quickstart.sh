@@ -12,4 +12,7 @@ cmake --build --preset release --target sphdem
 ranks=${SPHDEM_RANKS:-2}  # any count gives the same particles (docs/parallel.md)
 mpirun_flags=(--oversubscribe)
 [[ $(id -u) -eq 0 ]] && mpirun_flags+=(--allow-run-as-root)
-exec mpirun -n "$ranks" "${mpirun_flags[@]}" build/release/sphdem run inputs/plate.yaml -o out/plate "$@"
+# --overwrite: a second quickstart replaces the first one's out/plate (to
+# continue it instead: --restart latest, docs/checkpoint.md).
+exec mpirun -n "$ranks" "${mpirun_flags[@]}" build/release/sphdem run inputs/plate.yaml -o out/plate \
+  --overwrite "$@"

@@ -9,7 +9,7 @@ sphdem_test(test_dem_validation SOURCES test_dem_validation.cpp RANKS 1 LABELS "
 # about 2 s); then h5py and ParaView read the output.
 add_test(NAME fibers_only_run
          COMMAND $<TARGET_FILE:sphdem> run ${PROJECT_SOURCE_DIR}/inputs/fibers_only.yaml -q
-                 --steps 20000 -o ${CMAKE_CURRENT_BINARY_DIR}/fibers_only_out
+                 --steps 20000 -o ${CMAKE_CURRENT_BINARY_DIR}/fibers_only_out --overwrite
                  --set "moving_walls[0].velocity_table=[[0,0,-10]]"
                  --set "fibers.region.box.min=[-0.015,0.050]" --set output.every_steps=10000)
 set_tests_properties(fibers_only_run PROPERTIES LABELS "dem;cli" TIMEOUT 120
@@ -32,3 +32,9 @@ sphdem_test(test_case_fibers SOURCES test_case_fibers.cpp RANKS 1 2 LABELS "unit
 # DEM on 1-4 ranks: bitwise the same as one rank (docs/parallel.md).
 sphdem_test(test_dem_parallel SOURCES test_dem_parallel.cpp RANKS 1 2 3 4 LABELS "mpi;dem"
             TIMEOUT 300)
+
+# The SPH-DEM coupling end to end (docs/physics.md "Coupling").
+sphdem_test(test_coupled SOURCES test_coupled.cpp RANKS 1 2 LABELS "validation;coupling"
+            TIMEOUT 600)
+sphdem_test(test_coupled_parallel SOURCES test_coupled_parallel.cpp RANKS 1 2 3 4
+            LABELS "mpi;coupling" TIMEOUT 600)

@@ -117,8 +117,12 @@ TEST(CaseFibers, Errors) {
                "fibers.orientation", "expected a number");
   expect_error(edit("max: [0.015, 0.06]}}   # 12", "max: [0.015, 0.07]}}"), 12, "fibers.region",
                "outside the mold");
-  expect_error(edit("fibers:  ", "fill: [{box: {min: [0, 0.03], max: [0.01, 0.04]}}]\nfibers:  "),
-               8, "fibers", "coupling of issue 5");
+  expect_error(edit("dimension: 2                 # 1",
+                    "dimension: 2\nperiodic: [x]\n"
+                    "domain: {min: [-0.015, 0.03], max: [0.015, 0.0615]}"),
+               9, "fibers", "periodic axes are not supported");
+  expect_error(edit("  count: 175", "  count: 175\n  void_fraction_min: 1.5"), 9,
+               "fibers.void_fraction_min", "");
   // The generator's failure, at the key that asked for too much.
   expect_error(edit("  count: 175", "  area_fraction: 0.6"), 8, "fibers.area_fraction",
                "could not place");

@@ -95,6 +95,14 @@ struct ParallelSettings {
   double imbalance_threshold = 0.10;  // re-partition past max/mean - 1 of the per-rank work
 };
 
+// Checkpoints for restart (docs/checkpoint.md). Off unless a cadence is
+// given (here, or `--checkpoint-every` on the command line).
+struct CheckpointSettings {
+  std::optional<int> every_steps;       // steps between checkpoints
+  std::optional<double> every_minutes;  // wall-clock minutes between checkpoints
+  int keep = 2;                         // newest checkpoints kept, older ones deleted
+};
+
 // Fibers as chains of bonded DEM particles (DESIGN 2.2, docs/dem.md),
 // placed at random in a box at the start. Lines are kept so that a
 // placement that fails later can still point at the case file.
@@ -115,8 +123,11 @@ struct FiberSettings {
   std::optional<double> angle;  // orientation [rad] from +x; none: random
   std::uint64_t seed = 1;
   double dt_safety = 0.2;
-  int line = 0;         // of the `fibers:` mapping
-  int amount_line = 0;  // of `count` or `area_fraction`
+  // Coupling with the resin (docs/physics.md "Coupling").
+  double void_fraction_min = 0.4;           // clip of the local void fraction
+  bool void_fraction_in_continuity = true;  // the "local averaging" continuity form
+  int line = 0;                             // of the `fibers:` mapping
+  int amount_line = 0;                      // of `count` or `area_fraction`
 };
 
 struct Case {
@@ -137,6 +148,7 @@ struct Case {
   std::optional<Vec3a> domain_lo, domain_hi;  // default: mold bbox + wall layers
   Output output;
   ParallelSettings parallel;
+  CheckpointSettings checkpoint;
   // Remarks that do not stop a run (e.g. a Mach number above 0.1), for
   // `sphdem check` and the run log.
   std::vector<std::string> warnings;

@@ -52,8 +52,14 @@ class DemDomain {
   const std::vector<DemWall<D>>& walls() const { return walls_; }
   const DemParams<D>& params() const { return params_; }
   double halo_range() const { return range_; }
-  // Ghost-state refresh (a coupled run moves nothing else between them).
+  // Collective: the ghosts' position, velocity and spin. advance() leaves
+  // the ghosts at the last sub-step's half-step velocity (the final kick
+  // comes after their update); the coupling reads full-step values.
   void update_ghosts() { halo_.update_state(ps_); }
+  // Collective: the coupling's drag and Shepard sums to the ghosts.
+  void update_coupling(std::vector<Vec<D>>& drag, std::vector<double>& shepard_sum) {
+    halo_.update_coupling(drag, shepard_sum);
+  }
 
  private:
   const Decomposition<D>& dec_;

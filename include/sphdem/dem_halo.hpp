@@ -22,6 +22,10 @@ class DemHalo {
   // Collective. Position, velocity and angular velocity of every ghost.
   void update_state(DemParticles<D>& ps);
 
+  // Collective. The coupling's mean drag and Shepard sum of every ghost
+  // (both indexed like the particles).
+  void update_coupling(std::vector<Vec<D>>& drag, std::vector<double>& shepard_sum);
+
   std::size_t size() const { return recv_.total(); }       // ghosts received
   std::size_t sent() const { return send_index_.size(); }  // copies sent
 

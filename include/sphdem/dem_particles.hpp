@@ -118,8 +118,16 @@ struct DemParticles {
   // Forces of the last evaluation (velocity Verlet's first kick reads them).
   std::vector<Vec<D>> force;   // [N]
   std::vector<Rot<D>> torque;  // [N m]
-  // External force held over the DEM sub-steps (drag from the coupling).
+  // External force held over the DEM sub-steps.
   std::vector<Vec<D>> f_ext;  // [N]
+  // The resin's drag (docs/physics.md "Coupling"): F = drag_coeff
+  // (drag_velocity - v), coefficient K V_f and Shepard resin velocity held
+  // from the last coupling pass; the impulse it gave since then goes back
+  // to the resin at the next pass.
+  std::vector<double> drag_coeff;      // [kg/s]
+  std::vector<Vec<D>> drag_velocity;   // [m/s]
+  std::vector<Vec<D>> drag_force;      // of the last force evaluation [N]
+  std::vector<Vec<D>> drag_impulse;    // since the last coupling pass [N s]
   // Owned interaction state (owner rule above).
   std::vector<BondSlots<D>> bonds;
   std::vector<ContactSlots<D>> contacts;
@@ -146,6 +154,10 @@ struct DemParticles {
     f("force", force, FieldPolicy{false, true, true});
     f("torque", torque, FieldPolicy{false, true, true});
     f("f_ext", f_ext, FieldPolicy{false, true, true});
+    f("drag_coeff", drag_coeff, FieldPolicy{false, true, true});
+    f("drag_velocity", drag_velocity, FieldPolicy{false, true, true});
+    f("drag_force", drag_force, FieldPolicy{false, true, true});
+    f("drag_impulse", drag_impulse, FieldPolicy{false, true, true});
     f("bonds", bonds, FieldPolicy{true, true, true});
     f("contacts", contacts, FieldPolicy{true, true, true});
     f("wall_contacts", wall_contacts, FieldPolicy{false, true, true});

@@ -29,6 +29,12 @@ namespace sphdem {
 template <int D>
 std::vector<DemWall<D>> dem_walls_from_case(const Case& c, std::vector<int>& wall_owner);
 
+// The case's fibers, placed (every rank the same), with the walls and the
+// parameters of the case. InputError naming fibers.count or
+// fibers.area_fraction when they do not fit.
+template <int D>
+DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlacement& placement);
+
 template <int D>
 class DemRun {
  public:
@@ -42,6 +48,11 @@ class DemRun {
   // Advances exactly n steps without output.
   void advance(std::int64_t n);
   std::string write_snapshot();  // collective
+  // Checkpoints (docs/checkpoint.md, src/solver/dem_run_checkpoint.cpp),
+  // as Simulation's: collective; a refused checkpoint (InputError on every
+  // rank) leaves the state untouched.
+  std::string write_checkpoint();
+  std::string restart_from(const std::string& checkpoint);  // a path or "latest"
 
   const DemDomain<D>& dem() const { return *dem_; }
   DemDomain<D>& dem() { return *dem_; }
@@ -67,6 +78,10 @@ class DemRun {
   std::unique_ptr<SnapshotWriter> writer_;
   double dt_ = 0, time_ = 0;
   std::int64_t step_ = 0, snapshots_ = 0, last_snapshot_step_ = -1;
+  void load_checkpoint(const std::string& path);
+  bool restarted_ = false;  // the state came from a checkpoint
+  std::int64_t last_checkpoint_step_ = -1;
+  std::string last_checkpoint_;
 };
 
 }  // namespace sphdem

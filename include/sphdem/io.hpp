@@ -74,6 +74,13 @@ class SnapshotWriter {
 
   const std::string& xdmf_path() const { return xdmf_path_; }
 
+  // Collective. Continues the series of an earlier run in the directory
+  // from its checkpoint at `step` (src/io/snapshot_resume.cpp): the
+  // snapshots up to `step` are listed again (read back from their files),
+  // later ones (written after that checkpoint) are deleted, and the XDMF is
+  // rewritten. Throws std::runtime_error if a kept snapshot is unreadable.
+  void resume(std::int64_t step);
+
  private:
   struct SetEntry {
     std::string name;

@@ -33,6 +33,9 @@ class NeighborList {
   double cutoff() const { return support_ + skin_; }
   double skin() const { return skin_; }
   std::int64_t builds() const { return builds_; }
+  // Owned positions at the last build (what needs_rebuild compares with):
+  // part of a checkpoint, so a restart rebuilds where the run did.
+  const std::vector<Vec<D>>& positions_at_build() const { return x_at_build_; }
 
  private:
   double support_, skin_;

@@ -12,8 +12,10 @@
 
 namespace sphdem {
 
-enum class Phase { Compute = 0, Halo, Migration, Rebalance, Io, Wait };
-inline constexpr int kPhaseCount = 6;
+// Dem: the fibers' sub-steps (their own exchanges included); Coupling: the
+// drag and reaction passes.
+enum class Phase { Compute = 0, Halo, Migration, Rebalance, Io, Wait, Dem, Coupling };
+inline constexpr int kPhaseCount = 8;
 
 // Wall-clock seconds since t0.
 inline double seconds_since(std::chrono::steady_clock::time_point t0) {

@@ -5,7 +5,9 @@
 #include <cmath>
 #include <iostream>
 
+#include "output_dir.hpp"
 #include "partition_command.hpp"
+#include "signals.hpp"
 #include "sphdem/comm.hpp"
 #include "sphdem/config.hpp"
 #include "sphdem/dem_run.hpp"
@@ -22,7 +24,19 @@ struct RunArgs {
   std::int64_t steps = -1;
   std::vector<std::string> sets;
   bool quiet = false;
+  std::string restart;                // checkpoint path or "latest" (docs/checkpoint.md)
+  std::int64_t checkpoint_every = 0;  // 0: the case's checkpoint.every_steps
+  bool overwrite = false;
 };
+
+// After a stop request (SIGTERM, SIGUSR1) the run wrote a checkpoint: say
+// how to continue. Exit status 0, so a job chain goes on.
+void report_stop(const RunSummary& s, const Comm& comm, bool quiet) {
+  if (!s.stopped || !comm.root() || quiet) return;
+  std::cout << fmt::format(
+      "stopped by signal {} at t = {:.6g} s: checkpoint {}; continue with --restart latest\n",
+      app::stop_signal(), s.time, s.last_checkpoint);
+}
 
 // Measured one-rank resin throughput (docs/performance.md), used only for
 // the run-time estimate of `sphdem check`.
@@ -35,6 +49,8 @@ RunOptions run_options(const Case& c, const RunArgs& a) {
   opt.output_dir = a.output_dir.empty() ? c.output.directory : a.output_dir;
   if (a.steps >= 0) opt.max_steps = a.steps;
   opt.log = a.quiet ? nullptr : &std::cout;
+  if (a.checkpoint_every > 0) opt.checkpoint_every = a.checkpoint_every;
+  opt.stop_requested = stop_requested;
   return opt;
 }
 
@@ -42,15 +58,18 @@ RunOptions run_options(const Case& c, const RunArgs& a) {
 template <int D>
 int run_dem_case(const Case& c, const RunArgs& a, const Comm& comm) {
   const RunOptions opt = run_options(c, a);
+  prepare_output_dir(comm, opt.output_dir, !a.restart.empty(), a.overwrite);
   DemRun<D> run(c, comm, opt);
+  if (!a.restart.empty()) run.restart_from(a.restart);
   if (comm.root() && !a.quiet) {
     std::cout << fmt::format(
         "sphdem {}: case '{}' ({}D), {} fibers ({} DEM particles, fraction {:.2f} %), no resin, "
         "{} DEM walls, {} rank(s) (each runs the whole DEM system)\n",
-        SPHDEM_VERSION, c.name, D, run.placement().fibers, run.system().particles.n_owned,
-        100 * run.placement().fraction, run.system().walls.size(), comm.size());
+        SPHDEM_VERSION, c.name, D, run.placement().fibers, run.dem().global_count(),
+        100 * run.placement().fraction, run.dem().walls().size(), comm.size());
   }
   const RunSummary s = run.run();
+  report_stop(s, comm, a.quiet);
   if (comm.root() && !a.quiet) {
     std::cout << fmt::format(
         "done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s), {} snapshots in "
@@ -66,7 +85,7 @@ int check_dem_case(const Case& c, const Comm& comm) {
   opt.write_output = false;
   const DemRun<D> run(c, comm, opt);
   if (!comm.root()) return 0;
-  const double n = static_cast<double>(run.system().particles.n_owned);
+  const double n = static_cast<double>(run.dem().global_count());
   const double steps = std::ceil(c.numerics.end_time / run.dt());
   std::cout << fmt::format(
       "case '{}' ({}D) is valid\n"
@@ -74,8 +93,8 @@ int check_dem_case(const Case& c, const Comm& comm) {
       "  time step: {:.4g} s, limited by dem (fibers.dt_safety {})\n"
       "  steps to end_time {:.4g} s: about {:.0f}\n"
       "  run time: about {:.0f} s on one core (at {:.1g} particle-steps/s)\n",
-      c.name, D, run.system().particles.n_owned, run.placement().fibers,
-      100 * run.placement().fraction, run.system().walls.size(), run.dt(), c.fibers->dt_safety,
+      c.name, D, run.dem().global_count(), run.placement().fibers,
+      100 * run.placement().fraction, run.dem().walls().size(), run.dt(), c.fibers->dt_safety,
       c.numerics.end_time, steps, n * steps / kDemParticleStepsPerSecond,
       kDemParticleStepsPerSecond);
   return 0;
@@ -87,13 +106,24 @@ int run_case(const Case& c, const RunArgs& a, const Comm& comm) {
   opt.output_dir = a.output_dir;
   if (a.steps >= 0) opt.max_steps = a.steps;
   opt.log = a.quiet ? nullptr : &std::cout;
+  if (a.checkpoint_every > 0) opt.checkpoint_every = a.checkpoint_every;
+  opt.stop_requested = stop_requested;
+  if (c.fibers && (!a.restart.empty() || a.checkpoint_every > 0 || c.checkpoint.every_steps ||
+                   c.checkpoint.every_minutes))
+    throw InputError(c.source_file, c.fibers->line, "fibers",
+                     "checkpoints of resin + fiber runs are not implemented yet "
+                     "(docs/checkpoint.md)");
+  prepare_output_dir(comm, opt.output_dir.empty() ? c.output.directory : opt.output_dir,
+                     !a.restart.empty(), a.overwrite);
   Simulation<D> sim(c, comm, opt);
+  if (!a.restart.empty()) sim.restart_from(a.restart);
   if (comm.root() && !a.quiet) {
     std::cout << fmt::format(
         "sphdem {}: case '{}' ({}D), {} resin + {} wall particles, {} rank(s)\n", SPHDEM_VERSION,
         c.name, D, sim.global_fluid_count(), sim.global_wall_count(), comm.size());
   }
   const RunSummary s = sim.run();
+  report_stop(s, comm, a.quiet);
   if (comm.root() && !a.quiet) {
     std::cout << fmt::format(
         "done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s), "
@@ -150,6 +180,17 @@ int dispatch(int argc, char** argv) {
   run_cmd->add_option("--set", run.sets, "Override a case key: --set numerics.spacing=1e-3")
       ->allow_extra_args(false);
   run_cmd->add_flag("-q,--quiet", run.quiet, "No progress lines");
+  CLI::Option* restart_opt = run_cmd->add_option(
+      "--restart", run.restart,
+      "Continue from a checkpoint: its path, or 'latest' (the newest in the output directory)");
+  run_cmd
+      ->add_option("--checkpoint-every", run.checkpoint_every,
+                   "Write a checkpoint every N steps (overrides checkpoint.every_steps)")
+      ->check(CLI::PositiveNumber);
+  run_cmd
+      ->add_flag("--overwrite", run.overwrite,
+                 "Replace the output of an earlier run in the output directory")
+      ->excludes(restart_opt);
 
   RunArgs check;
   CLI::App* check_cmd =
@@ -170,6 +211,7 @@ int dispatch(int argc, char** argv) {
   }
 
   if (part_cmd->parsed()) return run_partition_command(part, comm);
+  if (run_cmd->parsed()) install_stop_signals();
   const RunArgs& a = run_cmd->parsed() ? run : check;
   const Case c = load_case(a.case_file, a.sets);
   if (c.fill.empty()) {  // fibers only (the loader requires one of the two)

@@ -276,6 +276,16 @@ ParallelSettings read_parallel(const std::optional<Value>& v) {
   return p;
 }
 
+CheckpointSettings read_checkpoint(const std::optional<Value>& v) {
+  CheckpointSettings k;
+  if (!v) return k;
+  const Map m = v->map({"every_steps", "every_minutes", "keep"});
+  if (auto x = m.get("every_steps")) k.every_steps = config::integer_at_least(*x, 1);
+  if (auto x = m.get("every_minutes")) k.every_minutes = config::positive(*x);
+  if (auto x = m.get("keep")) k.keep = config::integer_at_least(*x, 1);
+  return k;
+}
+
 void check_fill_inside_mold(const Case& c, const Source& src) {
   for (const Shape& f : c.fill) {
     if (auto p = config::point_outside(f, c.mold.shapes, c.dimension)) {
@@ -304,25 +314,27 @@ void warn_mach(Case& c) {
   }
 }
 
-// What the mold holds at the start: resin (fill), fibers, or (later, with
-// the coupling of issue 5) both.
+// What the mold holds at the start: resin (fill), fibers, or both (coupled).
 void read_contents(const Map& top, Case& c) {
   const std::optional<Value> fill = top.get("fill");
   const std::optional<Value> fibers = top.get("fibers");
   if (!fill && !fibers) top.require("fill", " (or fibers: for a case without resin)");
-  if (fill && fibers) {
-    fibers->fail(
-        "fibers with resin need the coupling of issue 5 (not implemented yet); remove fill: for a "
-        "fibers-only run");
-  }
   if (fill) c.fill = config::read_shape_list(*fill, c.dimension);
-  if (fibers) c.fibers = config::read_fibers(*fibers, c.dimension);
+  if (fibers) {
+    c.fibers = config::read_fibers(*fibers, c.dimension);
+    // A pair and its periodic image would both be listed (dem.hpp).
+    if (std::count(c.periodic.begin(), c.periodic.end(), true) > 0)
+      fibers->fail("fibers with periodic axes are not supported");
+    if (fill && c.dimension == 3)
+      fibers->fail(
+          "fibers with resin run in 2D only for now (3D mold walls for fibers are missing)");
+  }
 }
 
 Case read_case(const Value& root, const Source& src) {
   const Map top = root.map({"name", "dimension", "resin", "numerics", "mold", "fill",
                             "moving_walls", "sliding_walls", "body_force", "initial_velocity",
-                            "periodic", "domain", "output", "parallel", "fibers"});
+                            "periodic", "domain", "output", "parallel", "fibers", "checkpoint"});
   Case c;
   c.dimension = read_dimension(top.require("dimension"));
   const std::optional<Value> name = top.get("name");
@@ -330,13 +342,14 @@ Case read_case(const Value& root, const Source& src) {
   c.resin = read_resin(top.require("resin"));
   c.numerics = read_numerics(top.require("numerics"), c.resin);
   c.mold = read_mold(top.require("mold"), c.dimension);
+  read_periodic(top, c);
   read_contents(top, c);
   read_walls(top, c);
   if (auto x = top.get("body_force")) c.body_force = x->vector(c.dimension);
   if (auto x = top.get("initial_velocity")) c.initial_velocity = x->vector(c.dimension);
-  read_periodic(top, c);
   c.output = read_output(top.get("output"), c);
   c.parallel = read_parallel(top.get("parallel"));
+  c.checkpoint = read_checkpoint(top.get("checkpoint"));
   check_fill_inside_mold(c, src);
   if (c.fibers) {
     if (auto p = config::point_outside(c.fibers->region, c.mold.shapes, c.dimension)) {

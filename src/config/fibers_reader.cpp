@@ -34,10 +34,11 @@ std::optional<double> read_orientation(const Value& v) {
 }  // namespace
 
 FiberSettings read_fibers(const Value& v, int dim) {
-  const Map m = v.map({"count", "area_fraction", "particles_per_fiber", "diameter", "density",
-                       "youngs_modulus", "tensile_strength", "shear_strength", "stiffness_ratio",
-                       "contact_stiffness_fraction", "restitution", "friction", "region",
-                       "orientation", "seed", "dt_safety"});
+  const Map m =
+      v.map({"count", "area_fraction", "particles_per_fiber", "diameter", "density",
+             "youngs_modulus", "tensile_strength", "shear_strength", "stiffness_ratio",
+             "contact_stiffness_fraction", "restitution", "friction", "region", "orientation",
+             "seed", "dt_safety", "void_fraction_min", "void_fraction_in_continuity"});
   FiberSettings f;
   f.line = v.line();
   read_amount(m, f);
@@ -60,6 +61,9 @@ FiberSettings read_fibers(const Value& v, int dim) {
   if (auto x = m.get("orientation")) f.angle = read_orientation(*x);
   if (auto x = m.get("seed")) f.seed = static_cast<std::uint64_t>(integer_at_least(*x, 0));
   if (auto x = m.get("dt_safety")) f.dt_safety = in_interval(*x, {0, 2, true, false});
+  if (auto x = m.get("void_fraction_min"))
+    f.void_fraction_min = in_interval(*x, {0, 1, true, true});
+  if (auto x = m.get("void_fraction_in_continuity")) f.void_fraction_in_continuity = x->boolean();
   return f;
 }
 

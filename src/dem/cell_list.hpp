@@ -3,7 +3,7 @@
 // are few, and a rebuild is a counting sort, linear in their number).
 // Cells are at least `cell` wide (the largest contact distance, 2 R_max),
 // so every touching pair sits in the same or adjacent cells. The grid spans
-// the particles' bounding box; past a cell budget of a few per particle the
+// the particles' bounding box; past a cell budget of 16 per particle the
 // cells grow, so a particle far away cannot blow up the memory.
 #include <algorithm>
 #include <array>
@@ -30,7 +30,7 @@ class CellList {
         hi = hi.cwiseMax(x[i]);
       }
     }
-    const double budget = 4.0 * static_cast<double>(n) + 64.0;
+    const double budget = 16.0 * static_cast<double>(n) + 64.0;
     cell_ = std::max(cell, 1e-300);
     for (;;) {
       double total = 1;

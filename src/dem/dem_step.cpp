@@ -15,6 +15,7 @@
 #include <limits>
 
 #include "cell_list.hpp"
+#include "dem_profile.hpp"
 #include "sphdem/dem.hpp"
 #include "sphdem/errors.hpp"
 #include "terms/contact_linear.hpp"
@@ -22,6 +23,11 @@
 #include "terms/restitution_damping.hpp"
 
 namespace sphdem {
+
+dem_detail::DemProfile& dem_detail::dem_profile() {
+  static DemProfile profile;
+  return profile;
+}
 
 namespace {
 
@@ -98,14 +104,31 @@ Vec<D> contact_history(const ContactSlots<D>& slots, std::int64_t partner) {
   return Vec<D>::Zero();
 }
 
+// The contact damping of a pair from the two masses, remembering the last
+// pair of masses (fibers are usually of one kind of particle: the log and
+// sqrt of restitution_damping then run once per build, same values).
 template <int D>
-void set_damping(const DemParams<D>& p, const DemParticles<D>& ps, DemPair<D>& pr) {
-  const double ma = ps.mass[static_cast<std::size_t>(pr.a)];
-  const double mb = ps.mass[static_cast<std::size_t>(pr.b)];
-  const terms::LinearContact law = contact_law(p, ma * mb / (ma + mb));
-  pr.cn = law.cn;
-  pr.ct = law.ct;
-}
+class PairDamping {
+ public:
+  explicit PairDamping(const DemParams<D>& p) : p_(p) {}
+  void set(const DemParticles<D>& ps, DemPair<D>& pr) {
+    const double ma = ps.mass[static_cast<std::size_t>(pr.a)];
+    const double mb = ps.mass[static_cast<std::size_t>(pr.b)];
+    if (!(ma == ma_ && mb == mb_)) {
+      const terms::LinearContact law = contact_law(p_, ma * mb / (ma + mb));
+      ma_ = ma;
+      mb_ = mb;
+      cn_ = law.cn;
+      ct_ = law.ct;
+    }
+    pr.cn = cn_;
+    pr.ct = ct_;
+  }
+
+ private:
+  const DemParams<D>& p_;
+  double ma_ = -1, mb_ = -1, cn_ = 0, ct_ = 0;
+};
 
 // Contact or bond of one pair at the current state; fills f, ta, tb.
 template <int D>
@@ -154,6 +177,15 @@ void evaluate_pair(const DemParams<D>& p, double dt, DemParticles<D>& ps, DemPai
 template <int D>
 void wall_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
                  DemParticles<D>& ps, std::size_t i) {
+  // Fast path, most particles: no wall within reach and no history to drop.
+  bool busy = false;
+  for (const auto& c : ps.wall_contacts[i]) busy = busy || c.partner != DemContact<D>::kNone;
+  for (std::size_t w = 0; w < walls.size() && !busy; ++w) {
+    Vec<D> nv;
+    double delta;
+    busy = wall_contact<D>(walls[w], ps.x[i], ps.radius[i], nv, delta);
+  }
+  if (!busy) return;
   const WallContactSlots<D> old = ps.wall_contacts[i];
   WallContactSlots<D>& slots = ps.wall_contacts[i];
   slots = WallContactSlots<D>{};
@@ -185,6 +217,7 @@ void wall_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>
 
 template <int D>
 void dem_build_pairs(const DemParams<D>& p, DemParticles<D>& ps, DemWorkspace<D>& ws) {
+  const dem_detail::DemTimer timer(dem_detail::dem_profile().rebuild_pairs);
   const std::size_t n = ps.size(), n_own = ps.n_owned;
   double r_max = 0, r_min = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < n; ++i) {
@@ -194,6 +227,7 @@ void dem_build_pairs(const DemParams<D>& p, DemParticles<D>& ps, DemWorkspace<D>
   if (ws.skin <= 0) ws.skin = n > 0 ? 0.25 * r_min : 0;
   const double skin = ws.skin;
   const GidIndex<D> index(ps);
+  PairDamping<D> damping(p);
   ws.pairs.clear();
 
   // Bonds first: the smaller gid's slots name the partner.
@@ -216,26 +250,30 @@ void dem_build_pairs(const DemParams<D>& p, DemParticles<D>& ps, DemWorkspace<D>
       pr.a = static_cast<std::int32_t>(i);
       pr.b = j;
       pr.bond = static_cast<std::int8_t>(s);
-      set_damping(p, ps, pr);
+      damping.set(ps, pr);
       ws.pairs.push_back(pr);
     }
   }
   // Contact candidates within R_a + R_b + skin.
   dem_detail::CellList<D> cells;
   cells.build(ps.x, n, 2.0 * r_max + skin, ws.cell_start, ws.cell_items);
+  // Each unordered pair once (local index j > i), then ordered by gid.
   for (std::size_t i = 0; i < n; ++i) {
-    const std::int64_t gi = ps.gid[i];
-    cells.for_each_near(ps.x[i], [&](std::int32_t jj) {
+    const Vec<D> xi = ps.x[i];
+    const double ri = ps.radius[i] + skin;
+    cells.for_each_near(xi, [&](std::int32_t jj) {
       const auto j = static_cast<std::size_t>(jj);
-      if (ps.gid[j] <= gi || (i >= n_own && j >= n_own)) return;
-      const double reach = ps.radius[i] + ps.radius[j] + skin;
-      if ((ps.x[j] - ps.x[i]).squaredNorm() >= reach * reach) return;
-      if (bond_slot<D>(ps.bonds[i], ps.gid[j]) >= 0) return;  // listed as a bond
+      if (j <= i || (i >= n_own && j >= n_own) || ps.gid[i] == ps.gid[j]) return;
+      const double reach = ri + ps.radius[j];
+      if ((ps.x[j] - xi).squaredNorm() >= reach * reach) return;
+      const bool i_first = ps.gid[i] < ps.gid[j];
+      const std::size_t a = i_first ? i : j, b = i_first ? j : i;
+      if (bond_slot<D>(ps.bonds[a], ps.gid[b]) >= 0) return;  // listed as a bond
       DemPair<D> pr;
-      pr.a = static_cast<std::int32_t>(i);
-      pr.b = jj;
-      pr.xi = contact_history<D>(ps.contacts[i], ps.gid[j]);
-      set_damping(p, ps, pr);
+      pr.a = static_cast<std::int32_t>(a);
+      pr.b = static_cast<std::int32_t>(b);
+      pr.xi = contact_history<D>(ps.contacts[a], ps.gid[b]);
+      damping.set(ps, pr);
       ws.pairs.push_back(pr);
     });
   }
@@ -302,9 +340,18 @@ template <int D>
 void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
                         DemParticles<D>& ps, DemWorkspace<D>& ws) {
   const std::size_t n_own = ps.n_owned;
+  dem_detail::DemProfile& prof = dem_detail::dem_profile();
+  dem_detail::DemTimer t_pairs(prof.pairs);
   for (DemPair<D>& pr : ws.pairs) evaluate_pair<D>(p, dt, ps, pr);
+  t_pairs.stop();
+  dem_detail::DemTimer t_gather(prof.gather);
   for (std::size_t i = 0; i < n_own; ++i) {
-    Vec<D> f = ps.mass[i] * (p.gravity - p.global_damping * ps.v[i]) + ps.f_ext[i];
+    // The resin's drag, linear in the particle's own velocity with the
+    // coefficient and resin velocity of the last coupling pass (so it stays
+    // stable however many sub-steps the SPH step holds).
+    ps.drag_force[i] = ps.drag_coeff[i] * (ps.drag_velocity[i] - ps.v[i]);
+    Vec<D> f = ps.mass[i] * (p.gravity - p.global_damping * ps.v[i]) + ps.f_ext[i] +
+               ps.drag_force[i];
     Rot<D> t = -p.global_damping * ps.inertia[i] * ps.omega[i];
     for (std::int32_t e = ws.adj_start[i]; e < ws.adj_start[i + 1]; ++e) {
       const std::int32_t entry = ws.adj[static_cast<std::size_t>(e)];
@@ -320,18 +367,22 @@ void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemW
     }
     ps.force[i] = f;
     ps.torque[i] = t;
-    wall_forces<D>(p, dt, walls, ps, i);
   }
+  t_gather.stop();
+  dem_detail::DemTimer t_walls(prof.walls);
+  for (std::size_t i = 0; i < n_own; ++i) wall_forces<D>(p, dt, walls, ps, i);
   ws.forces_valid = true;
 }
 
 template <int D>
 void dem_kick_drift(double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps) {
+  const dem_detail::DemTimer timer(dem_detail::dem_profile().kick_drift);
   const double half = 0.5 * dt;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (!(ps.fixed[i] & kFixedMotion)) {
       ps.v[i] += (half / ps.mass[i]) * ps.force[i];
       ps.omega[i] += (half / ps.inertia[i]) * ps.torque[i];
+      ps.drag_impulse[i] += half * ps.drag_force[i];  // what the resin must get back
     }
     ps.x[i] += dt * ps.v[i];
   }
@@ -347,11 +398,13 @@ template <int D>
 void dem_force_kick(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
                     DemParticles<D>& ps, DemWorkspace<D>& ws) {
   compute_dem_forces(p, dt, walls, ps, ws);
+  const dem_detail::DemTimer timer(dem_detail::dem_profile().kick_drift);
   const double half = 0.5 * dt;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.fixed[i] & kFixedMotion) continue;
     ps.v[i] += (half / ps.mass[i]) * ps.force[i];
     ps.omega[i] += (half / ps.inertia[i]) * ps.torque[i];
+    ps.drag_impulse[i] += half * ps.drag_force[i];
   }
 }
 

@@ -32,6 +32,10 @@ std::size_t DemParticles<D>::push_owned(std::int64_t id, std::int32_t fiber_id, 
   force[i].setZero();
   torque[i].setZero();
   f_ext[i].setZero();
+  drag_coeff[i] = 0;
+  drag_velocity[i].setZero();
+  drag_force[i].setZero();
+  drag_impulse[i].setZero();
   bonds[i] = BondSlots<D>{};
   contacts[i] = ContactSlots<D>{};
   wall_contacts[i] = WallContactSlots<D>{};

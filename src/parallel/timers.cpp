@@ -23,6 +23,10 @@ const char* to_string(Phase p) {
       return "io";
     case Phase::Wait:
       return "wait";
+    case Phase::Dem:
+      return "dem";
+    case Phase::Coupling:
+      return "coupling";
   }
   return "?";
 }

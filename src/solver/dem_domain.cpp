@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "../dem/dem_profile.hpp"
+
 namespace sphdem {
 
 template <int D>
@@ -16,16 +18,36 @@ DemDomain<D>::DemDomain(const Decomposition<D>& dec, const DemParams<D>& params,
     r_min = std::min(r_min, ps_.radius[i]);
   }
   n_global_ = static_cast<std::int64_t>(ps_.n_owned);
-  ws_.skin = ps_.n_owned > 0 ? skin(r_min) : 0;
-  range_ = std::max(halo_range, ps_.n_owned > 0 ? reach(r_min, r_max) : 0.0);
+  // The skin: at least skin(r_min); more when the decomposition's cells
+  // leave room beyond 2 R_max (the halo must stay within one cell), up to
+  // kMaxSkin r_min. A wider skin means fewer rebuilds (each one a
+  // migration, a ghost build and a pair-list build) for a few more
+  // candidate pairs. The grid is the same on every rank, so is the skin;
+  // the results do not depend on it (the list is complete either way).
+  constexpr double kMaxSkin = 1.0;  // LAMMPS granular decks: 0.3 d = 0.6 R
+  double s = skin(r_min);
+  if (ps_.n_owned > 0) {
+    double cell = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < D; ++k) cell = std::min(cell, dec_.grid().size(k));
+    s = std::max(s, std::min(cell - 2.0 * r_max, kMaxSkin * r_min));
+  }
+  ws_.skin = ps_.n_owned > 0 ? s : 0;
+  range_ = std::max(halo_range, ps_.n_owned > 0 ? 2.0 * r_max + s : 0.0);
   dec_.keep_owned(ps_);
   rebuild();
 }
 
 template <int D>
 void DemDomain<D>::rebuild() {
+  const dem_detail::DemTimer timer(dem_detail::dem_profile().rebuild);
   store_state();
-  migrate<D>(dec_, ps_);
+  // One rank: migration would keep every particle in its order (a copy of
+  // every field); dropping the ghosts is all it does.
+  if (dec_.comm().size() > 1) {
+    migrate<D>(dec_, ps_);
+  } else {
+    ps_.clear_ghosts();
+  }
   halo_.build(dec_, ps_, range_);
   dem_build_pairs(params_, ps_, ws_);
   ++rebuilds_;
@@ -40,9 +62,13 @@ void DemDomain<D>::advance(std::int64_t n, double dt) {
     dem_kick_drift(dt, walls_, ps_);
     // One small collective per sub-step: every rank rebuilds at the same
     // sub-step, whatever the rank count.
-    if (comm.max(dem_max_displacement2(ps_, ws_)) > limit2) {
+    dem_detail::DemTimer t_collective(dem_detail::dem_profile().collective);
+    const bool moved = comm.max(dem_max_displacement2(ps_, ws_)) > limit2;
+    t_collective.stop();
+    if (moved) {
       rebuild();
     } else {
+      const dem_detail::DemTimer t_halo(dem_detail::dem_profile().halo);
       halo_.update_state(ps_);
     }
     dem_force_kick(params_, dt, walls_, ps_, ws_);

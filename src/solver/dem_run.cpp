@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -13,6 +14,7 @@
 #include <stdexcept>
 
 #include "dem_snapshot.hpp"
+#include "sphdem/checkpoint.hpp"
 #include "sphdem/errors.hpp"
 #include "sphdem/geometry.hpp"
 #include "sphdem/io.hpp"
@@ -83,22 +85,61 @@ std::vector<DemWall<D>> dem_walls_from_case(const Case& c, std::vector<int>& wal
   } else {
     std::vector<DemWall<2>> walls;
     wall_owner.clear();
-    auto add_edges = [&](const Shape& s, int owner, bool touching_only) {
+    const double tol = 1e-9 * mold_size(c);
+    // Moving walls: the edges of the region that touch the mold.
+    auto add_touching = [&](const Shape& s, int owner) {
       const std::vector<Vec<2>> p = outline(s);
-      const double tol = 1e-9 * mold_size(c);
       for (std::size_t k = 0; k < p.size(); ++k) {
         const Vec<2>& a = p[k];
         const Vec<2>& b = p[(k + 1) % p.size()];
-        if (touching_only && !union_contains<2>(c.mold.shapes, Vec<2>(0.5 * (a + b)), tol))
-          continue;
+        if (!union_contains<2>(c.mold.shapes, Vec<2>(0.5 * (a + b)), tol)) continue;
         walls.push_back(DemWall<2>::segment(a, b));
         wall_owner.push_back(owner);
       }
     };
-    for (const Shape& s : c.mold.shapes) add_edges(s, -1, false);
+    // The mold: only the parts of its shapes' edges on the boundary of their
+    // union (where two shapes meet, as the bath and the nozzle do, fibers
+    // pass). An edge is cut at every vertex of the mold lying on it; a piece
+    // is boundary when resin is on exactly one side of its midpoint.
+    std::vector<Vec<2>> vertices;
+    for (const Shape& s : c.mold.shapes)
+      for (const Vec<2>& v : outline(s)) vertices.push_back(v);
+    auto add_boundary = [&](const Shape& s) {
+      const std::vector<Vec<2>> p = outline(s);
+      for (std::size_t k = 0; k < p.size(); ++k) {
+        const Vec<2>& a = p[k];
+        const Vec<2>& b = p[(k + 1) % p.size()];
+        const Vec<2> ab = b - a;
+        const double len = ab.norm();
+        const Vec<2> normal(-ab[1] / len, ab[0] / len);
+        std::vector<double> cuts{0.0, 1.0};
+        for (const Vec<2>& v : vertices) {
+          const double t = (v - a).dot(ab) / (len * len);
+          if (t > 0 && t < 1 && std::abs((v - a).dot(normal)) < tol) cuts.push_back(t);
+        }
+        std::sort(cuts.begin(), cuts.end());
+        const double probe = 1e3 * tol;
+        for (std::size_t m = 0; m + 1 < cuts.size(); ++m) {
+          if (cuts[m + 1] - cuts[m] < 1e-12) continue;
+          const Vec<2> mid = a + 0.5 * (cuts[m] + cuts[m + 1]) * ab;
+          const bool left = union_contains<2>(c.mold.shapes, Vec<2>(mid + probe * normal), 0.0);
+          const bool right = union_contains<2>(c.mold.shapes, Vec<2>(mid - probe * normal), 0.0);
+          if (left == right) continue;
+          const Vec<2> p0 = a + cuts[m] * ab, p1 = a + cuts[m + 1] * ab;
+          const auto same = [&](const DemWall<2>& w) {  // shapes sharing an outer edge
+            return ((w.point - p0).norm() < tol && (w.end - p1).norm() < tol) ||
+                   ((w.point - p1).norm() < tol && (w.end - p0).norm() < tol);
+          };
+          if (std::any_of(walls.begin(), walls.end(), same)) continue;
+          walls.push_back(DemWall<2>::segment(p0, p1));
+          wall_owner.push_back(-1);
+        }
+      }
+    };
+    for (const Shape& s : c.mold.shapes) add_boundary(s);
     for (std::size_t w = 0; w < c.moving_walls.size(); ++w) {
       const std::size_t before = walls.size();
-      add_edges(c.moving_walls[w].region, static_cast<int>(w), true);
+      add_touching(c.moving_walls[w].region, static_cast<int>(w));
       if (walls.size() == before) {
         throw InputError(c.source_file, c.moving_walls[w].line,
                          fmt::format("moving_walls[{}].region", w),
@@ -110,22 +151,29 @@ std::vector<DemWall<D>> dem_walls_from_case(const Case& c, std::vector<int>& wal
 }
 
 template <int D>
-DemRun<D>::DemRun(const Case& c, const Comm& comm, RunOptions opt)
-    : case_(c), comm_(comm), opt_(std::move(opt)), motions_(make_wall_motions(c)) {
-  if (!c.fibers) throw std::invalid_argument("sphdem: DemRun needs a case with fibers");
-  if (opt_.output_dir.empty()) opt_.output_dir = c.output.directory;
-  // Every rank places the same fibers (same seed), then keeps its own.
+DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlacement& placement) {
   DemSystem<D> all;
-  all.walls = dem_walls_from_case<D>(c, wall_owner_);
+  all.walls = dem_walls_from_case<D>(c, wall_owner);
   all.params = dem_params<D>(c);
   const FiberSettings& f = *c.fibers;
   try {
-    placement_ = place_fibers(fiber_spec<D>(f), all);
+    placement = place_fibers(fiber_spec<D>(f), all);
   } catch (const std::runtime_error& e) {
     const bool from_set = f.amount_line == 0;
     throw InputError(from_set ? "--set" : c.source_file, f.amount_line,
                      f.count > 0 ? "fibers.count" : "fibers.area_fraction", e.what());
   }
+  return all;
+}
+
+template <int D>
+DemRun<D>::DemRun(const Case& c, const Comm& comm, RunOptions opt)
+    : case_(c), comm_(comm), opt_(std::move(opt)), motions_(make_wall_motions(c)) {
+  if (!c.fibers) throw std::invalid_argument("sphdem: DemRun needs a case with fibers");
+  if (opt_.output_dir.empty()) opt_.output_dir = c.output.directory;
+  // Every rank places the same fibers (same seed), then keeps its own.
+  DemSystem<D> all = case_fibers<D>(c, wall_owner_, placement_);
+  const FiberSettings& f = *c.fibers;
   dt_ = all.stable_dt();
   box_.lo = box_.hi = all.walls.front().point;
   for (const DemWall<D>& w : all.walls) {
@@ -242,14 +290,26 @@ RunSummary DemRun<D>::run() {
   const auto t0 = std::chrono::steady_clock::now();
   const double end = case_.numerics.end_time;
   const std::int64_t step0 = step_;
-  if (opt_.write_output) write_snapshot();
-  OutputCadence cadence(case_.output, time_);
+  // A restart continues the series: its first state is already on disk.
+  if (opt_.write_output && !restarted_) write_snapshot();
+  OutputCadence cadence = resumed_output_cadence(case_.output, time_);
+  CheckpointCadence checkpoints(case_.checkpoint, opt_.checkpoint_every, opt_.stop_requested);
+  bool stopped = false;
   try {
     while (time_ < end * (1 - 1e-12) && (!opt_.max_steps || step_ < *opt_.max_steps)) {
       do_step();
       if (step_ % 100 == 0) check_health();
       report_progress(seconds_since(t0), step_ - step0, false);
       if (cadence.due(step_, time_) && opt_.write_output) write_snapshot();
+      const CheckpointCadence::Decision d = checkpoints.after_step(comm_, step_);
+      if (d.write && opt_.write_output) {
+        write_checkpoint();
+        checkpoints.written();
+      }
+      if (d.stop) {
+        stopped = true;
+        break;
+      }
     }
     check_health();
   } catch (const SimulationError&) {
@@ -259,8 +319,13 @@ RunSummary DemRun<D>::run() {
     }
     throw;
   }
-  if (opt_.write_output && last_snapshot_step_ != step_) write_snapshot();
+  // As Simulation::run: after a stop request the state is in the checkpoint.
+  if (opt_.write_output && !stopped && last_snapshot_step_ != step_) write_snapshot();
+  if (opt_.write_output && checkpoints.enabled() && last_checkpoint_step_ != step_)
+    write_checkpoint();
   RunSummary s;
+  s.stopped = stopped;
+  s.last_checkpoint = last_checkpoint_;
   s.steps = step_ - step0;
   s.time = time_;
   s.wall_seconds = seconds_since(t0);
@@ -274,6 +339,8 @@ RunSummary DemRun<D>::run() {
   return s;
 }
 
+template DemSystem<2> case_fibers<2>(const Case&, std::vector<int>&, FiberPlacement&);
+template DemSystem<3> case_fibers<3>(const Case&, std::vector<int>&, FiberPlacement&);
 template std::vector<DemWall<2>> dem_walls_from_case<2>(const Case&, std::vector<int>&);
 template std::vector<DemWall<3>> dem_walls_from_case<3>(const Case&, std::vector<int>&);
 template class DemRun<2>;

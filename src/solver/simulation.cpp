@@ -5,7 +5,10 @@
 #include <fstream>
 #include <ostream>
 
+#include "dem_snapshot.hpp"
 #include "snapshot_fields.hpp"
+#include "sphdem/checkpoint.hpp"
+#include "sphdem/dem_run.hpp"
 #include "sphdem/errors.hpp"
 #include "sphdem/geometry.hpp"
 #include "sphdem/io.hpp"
@@ -36,7 +39,67 @@ Simulation<D>::Simulation(const Case& c, const Comm& comm, RunOptions opt)
   last_imbalance_ = dec_.imbalance(ps_);
   set_wall_velocities(0.0);
   rebuild_neighbors();
+  if (c.fibers) init_fibers();
   compute_rates();
+}
+
+// The case's fibers on the resin's decomposition; their ghosts reach as
+// far as the coupling kernel (the SPH neighbor cut-off).
+template <int D>
+void Simulation<D>::init_fibers() {
+  DemSystem<D> all = case_fibers<D>(case_, dem_wall_owner_, placement_);
+  coupling_.drag.rho = case_.resin.density;
+  coupling_.drag.mu = case_.resin.viscosity;
+  coupling_.drag.eps_min = case_.fibers->void_fraction_min;
+  coupling_.h = case_.h();
+  coupling_.thickness = all.params.thickness;
+  coupling_.void_fraction_in_continuity = case_.fibers->void_fraction_in_continuity;
+  dem_dt_ = all.stable_dt();
+  dem_ = std::make_unique<DemDomain<D>>(dec_, all.params, all.walls, std::move(all.particles),
+                                        nl_.cutoff());
+}
+
+// DEM sub-steps over [t0, t0 + dt], the drag of the last coupling pass
+// held; the piston's DEM segments move at the SPH piston's mid-step speed.
+template <int D>
+void Simulation<D>::advance_fibers(double t0, double dt) {
+  ScopedPhase t(timers_, Phase::Dem);
+  std::vector<DemWall<D>>& walls = dem_->walls();
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    const int w = dem_wall_owner_[k];
+    if (w >= 0)
+      walls[k].velocity = to_vec<D>(walls_[static_cast<std::size_t>(w)].velocity(t0 + 0.5 * dt));
+  }
+  substeps_ = static_cast<std::int64_t>(std::ceil(dt / dem_dt_ * (1 - 1e-12)));
+  substeps_ = std::max<std::int64_t>(substeps_, 1);
+  dem_->advance(substeps_, dt / static_cast<double>(substeps_));
+  dem_->update_ghosts();
+  coupled_dt_ = dt;
+}
+
+// Drag on the fibers, then its reaction on the resin (coupling_loops.hpp);
+// the DEM ghosts get their owners' drag and S_f in between.
+template <int D>
+void Simulation<D>::couple() {
+  ScopedPhase t(timers_, Phase::Coupling);
+  DemParticles<D>& dem = dem_->particles();
+  drag_on_fibers<D>(coupling_, ps_, dem, cstate_, coupled_dt_);
+  dem_->update_coupling(cstate_.mean_drag, cstate_.shepard_sum);
+  const Vec<D> reaction =
+      reaction_on_resin<D>(coupling_, dem, cstate_.mean_drag, cstate_.shepard_sum, ps_, resin_eps_);
+  // Diagnostics: total drag + total reaction, which must vanish.
+  std::vector<double> sums(2 * D + 1, 0.0);
+  for (std::size_t f = 0; f < dem.n_owned; ++f) {
+    for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(k)] += cstate_.mean_drag[f][k];
+    sums[2 * D] += cstate_.mean_drag[f].norm();
+  }
+  for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(D + k)] = reaction[k];
+  for (double& x : sums) x = comm_.sum(x);
+  double residual = 0;
+  for (int k = 0; k < D; ++k)
+    residual +=
+        std::pow(sums[static_cast<std::size_t>(k)] + sums[static_cast<std::size_t>(D + k)], 2);
+  momentum_residual_ = sums[2 * D] > 0 ? std::sqrt(residual) / sums[2 * D] : 0.0;
 }
 
 template <int D>
@@ -56,20 +119,22 @@ void Simulation<D>::set_wall_velocities(double t) {
 // Migration, halo and lists are rebuilt together: the halo plan and the
 // lists index the particles that migration rearranges.
 template <int D>
-void Simulation<D>::rebuild_neighbors() {
+void Simulation<D>::rebuild_neighbors(bool restart) {
   // Wrap first: a particle's owner is the owner of the cell it lies in.
-  wrap_periodic<D>(ps_, domain_, case_.periodic);
+  if (!restart) wrap_periodic<D>(ps_, domain_, case_.periodic);
   {
     ScopedPhase t(timers_, Phase::Migration);
     migrate<D>(dec_, ps_);
   }
-  maybe_rebalance();
+  if (!restart) maybe_rebalance();
   sort_by_cell<D>(ps_, nl_.cutoff());
   {
     ScopedPhase t(timers_, Phase::Halo);
     halo_.build(dec_, ps_, nl_.cutoff());
   }
   nl_.build(ps_);
+  // The fibers follow the resin's decomposition (which may have changed).
+  if (dem_) dem_->rebuild();
   check_health();
 }
 
@@ -137,6 +202,7 @@ void Simulation<D>::compute_rates() {
     halo_.update_wall_state(ps_);
   }
   compute_fluid_rates<D>(sp_, nl_, ps_);
+  if (dem_) couple();
 }
 
 template <int D>
@@ -190,6 +256,7 @@ void Simulation<D>::do_step() {
     rebuild = comm_.any(moved);
   }
   if (rebuild) rebuild_neighbors();
+  if (dem_) advance_fibers(time_ - dt, dt);
   compute_rates();
   for (std::size_t i = 0; i < ps_.n_owned; ++i) {
     if (ps_.kind[i] == Kind::Fluid) {
@@ -221,6 +288,17 @@ void Simulation<D>::check_health() const {
       }
     }
   }
+  // Fibers stay in the mold's bounding box (a fiber through a wall).
+  if (dem_ && !bad) {
+    const DemParticles<D>& f = dem_->particles();
+    for (std::size_t i = 0; i < f.n_owned && !bad; ++i) {
+      if (!f.x[i].allFinite() || (f.x[i].array() < domain_.lo.array()).any() ||
+          (f.x[i].array() > domain_.hi.array()).any()) {
+        bad = true;
+        what = fmt::format("fiber particle {} (fiber {}) left the mold", f.gid[i], f.fiber[i]);
+      }
+    }
+  }
   bool any_bad = false;
   {
     ScopedPhase t(timers_, Phase::Wait);
@@ -248,9 +326,16 @@ std::string Simulation<D>::write_snapshot() {
     }
   }
   SnapshotBuffers<D> buf(ps_, case_.output.fields);
+  std::vector<ParticleSetView> views = buf.views();
+  std::unique_ptr<DemSnapshotBuffers<D>> fibers;
+  if (dem_) {
+    dem_->store_state();
+    fibers = std::make_unique<DemSnapshotBuffers<D>>(dem_->particles(), comm_);
+    views.push_back(fibers->view());
+  }
   ++snapshots_;
   last_snapshot_step_ = step_;
-  return writer_->write(step_, time_, buf.views());
+  return writer_->write(step_, time_, views);
 }
 
 template <int D>
@@ -286,13 +371,25 @@ RunSummary Simulation<D>::run() {
   timers_.reset();
   const double end = case_.numerics.end_time;
   const std::int64_t step0 = step_;
-  if (opt_.write_output) write_snapshot();
-  OutputCadence cadence(case_.output, time_);
+  // A restart continues the series: its first state is already on disk.
+  if (opt_.write_output && !restarted_) write_snapshot();
+  OutputCadence cadence = resumed_output_cadence(case_.output, time_);
+  CheckpointCadence checkpoints(case_.checkpoint, opt_.checkpoint_every, opt_.stop_requested);
+  bool stopped = false;
   try {
     while (time_ < end * (1 - 1e-12) && (!opt_.max_steps || step_ < *opt_.max_steps)) {
       do_step();
       report_progress(seconds_since(t0), step_ - step0, false);
       if (cadence.due(step_, time_) && opt_.write_output) write_snapshot();
+      const CheckpointCadence::Decision d = checkpoints.after_step(comm_, step_);
+      if (d.write && opt_.write_output) {
+        write_checkpoint();
+        checkpoints.written();
+      }
+      if (d.stop) {
+        stopped = true;
+        break;
+      }
     }
   } catch (const SimulationError&) {
     if (opt_.write_output) {
@@ -301,9 +398,15 @@ RunSummary Simulation<D>::run() {
     }
     throw;
   }
-  // The final state is always on disk, whatever the cadence.
-  if (opt_.write_output && last_snapshot_step_ != step_) write_snapshot();
+  // The final state is always on disk, whatever the cadence (after a stop
+  // request, in the checkpoint: a snapshot off the cadence would not be in
+  // the series of an uninterrupted run).
+  if (opt_.write_output && !stopped && last_snapshot_step_ != step_) write_snapshot();
+  if (opt_.write_output && checkpoints.enabled() && last_checkpoint_step_ != step_)
+    write_checkpoint();
   RunSummary s;
+  s.stopped = stopped;
+  s.last_checkpoint = last_checkpoint_;
   s.steps = step_ - step0;
   s.time = time_;
   s.wall_seconds = seconds_since(t0);

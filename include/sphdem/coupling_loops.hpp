@@ -1,0 +1,64 @@
+#pragma once
+// The two coupling passes (DESIGN 3.1 step 5, docs/physics.md "Coupling"),
+// over the particles present on a rank (owned and ghosts). No MPI: between
+// the passes the solver sends each DEM ghost its owner's drag and Shepard
+// sum (DemHalo::update_coupling).
+//   1. drag_on_fibers: for every owned DEM particle f, the mean drag of the
+//      step that just ended (its impulse over the sub-steps / dt: the
+//      momentum the resin must get back), then the void fraction at x_f,
+//      the Shepard resin velocity vbar and the normaliser S_f, and the new
+//      drag law F = K V_f (vbar - v_f) held over the next sub-steps
+//      (drag_coeff = K V_f with K at the current slip, drag_velocity = vbar).
+//   2. reaction_on_resin: for every owned resin particle r, the reaction
+//      -(V_r W_fr / S_f) F_mean,f of every DEM neighbour f (into a; returns
+//      the sum of these forces over the rank's resin), and with
+//      void_fraction_in_continuity the continuity rate with the void
+//      fraction (into drho).
+// Every sum runs over neighbours in increasing global id, so results are
+// bitwise the same on any number of ranks; the reactions of one DEM
+// particle sum to -F_d exactly up to round-off.
+#include <cstdint>
+#include <vector>
+
+#include "sphdem/coupling.hpp"
+#include "sphdem/dem_particles.hpp"
+#include "sphdem/kernel.hpp"
+#include "sphdem/particles.hpp"
+
+namespace sphdem {
+
+struct CouplingSettings {
+  CouplingParams drag;                      // resin rho, mu, eps_min, eps_switch
+  double h = 0;                             // smoothing length of the averaging kernel [m]
+  double thickness = 1.0;                   // 2D depth of the DEM particles [m]
+  bool void_fraction_in_continuity = true;  // the "local averaging" continuity form
+};
+
+// Per-DEM-particle results, indexed like the DEM particles (owned first;
+// ghosts' drag and S_f after the solver's exchange).
+template <int D>
+struct CouplingState {
+  std::vector<double> shepard_sum;     // S_f (0: no resin near f, no drag)
+  std::vector<Vec<D>> mean_drag;       // drag impulse of the last step / dt [N]
+  std::vector<double> void_fraction;   // clipped eps at x_f
+  std::vector<Vec<D>> resin_velocity;  // Shepard vbar at x_f
+  // Per owned SPH particle: the clipped void fraction (1 for walls and resin
+  // without fibers near).
+  std::vector<double> resin_void_fraction;
+  // Scratch.
+  std::vector<std::int32_t> cell_start, cell_items, resin_index;
+  std::vector<Vec<D>> resin_x;
+};
+
+// dt: the SPH step that just ended (0 at the start: no impulse yet).
+template <int D>
+void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemParticles<D>& dem,
+                    CouplingState<D>& st, double dt);
+
+template <int D>
+Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
+                         const std::vector<Vec<D>>& mean_drag,
+                         const std::vector<double>& shepard_sum, SphParticles<D>& sph,
+                         std::vector<double>& resin_void_fraction);
+
+}  // namespace sphdem

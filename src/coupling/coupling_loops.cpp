@@ -1,0 +1,189 @@
+// The coupling passes (coupling_loops.hpp). Neighbour searches use a cell
+// list over the few particles concerned (the resin, or the DEM particles),
+// rebuilt per call; candidates are sorted by global id before summing.
+#include "sphdem/coupling_loops.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "../dem/cell_list.hpp"
+#include "terms/continuity_void.hpp"
+#include "terms/reaction.hpp"
+#include "terms/shepard.hpp"
+#include "terms/void_fraction.hpp"
+
+namespace sphdem {
+
+namespace {
+
+struct Near {
+  std::int64_t gid;
+  std::int32_t index;
+  double r;
+  bool operator<(const Near& o) const { return gid < o.gid; }
+};
+
+// Particles of `cells` (over positions `x`, ids via `gid_of`) within
+// `support` of p, sorted by gid.
+template <int D, class GidOf>
+void near_sorted(const dem_detail::CellList<D>& cells, const std::vector<Vec<D>>& x,
+                 const Vec<D>& p, double support, GidOf gid_of, std::vector<Near>& out) {
+  out.clear();
+  cells.for_each_near(p, [&](std::int32_t j) {
+    const double r = (p - x[static_cast<std::size_t>(j)]).norm();
+    if (r < support) out.push_back({gid_of(j), j, r});
+  });
+  std::sort(out.begin(), out.end());
+}
+
+template <int D>
+double dem_volume(const DemParticles<D>& dem, std::size_t f) {
+  return particle_volume<D>(2.0 * dem.radius[f]);
+}
+
+}  // namespace
+
+template <int D>
+void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemParticles<D>& dem,
+                    CouplingState<D>& st, double dt) {
+  const WendlandC2<D> kernel(s.h);
+  const double support = kernel.support();
+  const std::size_t n_dem = dem.size();
+  st.shepard_sum.assign(n_dem, 0.0);
+  st.mean_drag.assign(n_dem, Vec<D>::Zero());
+  st.void_fraction.assign(n_dem, 1.0);
+  st.resin_velocity.assign(n_dem, Vec<D>::Zero());
+
+  // Resin particles (owned and ghosts) in a cell list of their own.
+  st.resin_index.clear();
+  st.resin_x.clear();
+  for (std::size_t r = 0; r < sph.size(); ++r) {
+    if (sph.kind[r] != Kind::Fluid) continue;
+    st.resin_index.push_back(static_cast<std::int32_t>(r));
+    st.resin_x.push_back(sph.x[r]);
+  }
+  dem_detail::CellList<D> resin_cells;
+  resin_cells.build(st.resin_x, st.resin_x.size(), support, st.cell_start, st.cell_items);
+  std::vector<Near> near;
+  const auto resin_gid = [&](std::int32_t j) {
+    return sph.gid[static_cast<std::size_t>(st.resin_index[static_cast<std::size_t>(j)])];
+  };
+  // DEM particles (owned and ghosts), for the void fraction at x_f.
+  std::vector<std::int32_t> dem_start, dem_items;
+  dem_detail::CellList<D> dem_cells;
+  dem_cells.build(dem.x, n_dem, support, dem_start, dem_items);
+  const auto dem_gid = [&](std::int32_t j) { return dem.gid[static_cast<std::size_t>(j)]; };
+  std::vector<Near> near_dem;
+
+  for (std::size_t f = 0; f < dem.n_owned; ++f) {
+    double phi = 0;
+    near_sorted<D>(dem_cells, dem.x, dem.x[f], support, dem_gid, near_dem);
+    for (const Near& n : near_dem) {
+      phi +=
+          terms::solid_fraction<D>(kernel, dem_volume(dem, static_cast<std::size_t>(n.index)), n.r);
+    }
+    const double eps = terms::void_fraction(phi, s.drag.eps_min);
+    terms::ShepardSum<D> shepard;
+    near_sorted<D>(resin_cells, st.resin_x, dem.x[f], support, resin_gid, near);
+    for (const Near& n : near) {
+      const auto r = static_cast<std::size_t>(st.resin_index[static_cast<std::size_t>(n.index)]);
+      shepard.add(sph.mass[r] / sph.rho[r], kernel.w(n.r), sph.v[r]);
+    }
+    st.void_fraction[f] = eps;
+    st.shepard_sum[f] = shepard.s;
+    st.resin_velocity[f] = shepard.mean();
+    if (dt > 0) st.mean_drag[f] = dem.drag_impulse[f] / dt;
+    dem.drag_impulse[f].setZero();
+    const double d = 2.0 * dem.radius[f];
+    const double vol = s.thickness * particle_volume<D>(d);
+    const Vec<D> vbar = shepard.mean();
+    dem.drag_coeff[f] =
+        shepard.has_resin() ? drag_k(s.drag, eps, d, (vbar - dem.v[f]).norm()) * vol : 0.0;
+    dem.drag_velocity[f] = vbar;
+    // The force the next first kick uses follows the new law.
+    const Vec<D> drag = dem.drag_coeff[f] * (vbar - dem.v[f]);
+    dem.force[f] += drag - dem.drag_force[f];
+    dem.drag_force[f] = drag;
+  }
+}
+
+// Loops over the DEM particles in increasing gid and adds each one's share
+// to its resin neighbours: every resin particle then sums its DEM
+// neighbours in gid order (rank-independent), at a cost set by the few DEM
+// particles rather than by the whole resin.
+template <int D>
+Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
+                         const std::vector<Vec<D>>& mean_drag,
+                         const std::vector<double>& shepard_sum, SphParticles<D>& sph,
+                         std::vector<double>& resin_void_fraction) {
+  const WendlandC2<D> kernel(s.h);
+  const double support = kernel.support();
+  resin_void_fraction.assign(sph.n_owned, 1.0);
+  Vec<D> total = Vec<D>::Zero();
+  if (dem.size() == 0) return total;
+  // Owned resin particles only: they are the ones that receive.
+  std::vector<std::int32_t> resin;
+  std::vector<Vec<D>> resin_x;
+  for (std::size_t r = 0; r < sph.n_owned; ++r) {
+    if (sph.kind[r] != Kind::Fluid) continue;
+    resin.push_back(static_cast<std::int32_t>(r));
+    resin_x.push_back(sph.x[r]);
+  }
+  std::vector<std::int32_t> start, items;
+  dem_detail::CellList<D> cells;
+  cells.build(resin_x, resin_x.size(), support, start, items);
+  std::vector<std::int32_t> order(dem.size());
+  for (std::size_t f = 0; f < dem.size(); ++f) order[f] = static_cast<std::int32_t>(f);
+  std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
+    return dem.gid[static_cast<std::size_t>(a)] < dem.gid[static_cast<std::size_t>(b)];
+  });
+  std::vector<Vec<D>> force(resin.size(), Vec<D>::Zero());
+  std::vector<double> phi(resin.size(), 0.0), phi_rate(resin.size(), 0.0);
+  std::vector<std::uint8_t> touched(resin.size(), 0);
+  for (const std::int32_t fi : order) {
+    const auto f = static_cast<std::size_t>(fi);
+    const double vol_f = dem_volume(dem, f);
+    cells.for_each_near(dem.x[f], [&](std::int32_t k) {
+      const auto ku = static_cast<std::size_t>(k);
+      const auto r = static_cast<std::size_t>(resin[ku]);
+      const double dist = (sph.x[r] - dem.x[f]).norm();
+      if (dist >= support) return;
+      const double w = kernel.w(dist);
+      if (shepard_sum[f] > 0) {
+        force[ku] +=
+            terms::reaction_force<D>(sph.mass[r] / sph.rho[r], w, shepard_sum[f], mean_drag[f]);
+      }
+      phi[ku] += terms::solid_fraction<D>(kernel, vol_f, dist);
+      phi_rate[ku] += terms::solid_fraction_rate(vol_f, kernel.f(dist),
+                                                 (sph.v[r] - dem.v[f]).dot(sph.x[r] - dem.x[f]));
+      touched[ku] = 1;
+    });
+  }
+  for (std::size_t k = 0; k < resin.size(); ++k) {
+    if (!touched[k]) continue;
+    const auto r = static_cast<std::size_t>(resin[k]);
+    // 2D: the drag is per depth `thickness`, the resin's mass per metre.
+    sph.a[r] += force[k] / (s.thickness * sph.mass[r]);
+    total += force[k];
+    const double eps = terms::void_fraction(phi[k], s.drag.eps_min);
+    resin_void_fraction[r] = eps;
+    if (s.void_fraction_in_continuity) {
+      const double rate = terms::clipped_solid_fraction_rate(phi[k], phi_rate[k], s.drag.eps_min);
+      sph.drho[r] = terms::continuity_void_fraction(sph.drho[r], sph.rho[r], rate, eps);
+    }
+  }
+  return total;
+}
+
+template void drag_on_fibers<2>(const CouplingSettings&, const SphParticles<2>&, DemParticles<2>&,
+                                CouplingState<2>&, double);
+template void drag_on_fibers<3>(const CouplingSettings&, const SphParticles<3>&, DemParticles<3>&,
+                                CouplingState<3>&, double);
+template Vec<2> reaction_on_resin<2>(const CouplingSettings&, const DemParticles<2>&,
+                                     const std::vector<Vec<2>>&, const std::vector<double>&,
+                                     SphParticles<2>&, std::vector<double>&);
+template Vec<3> reaction_on_resin<3>(const CouplingSettings&, const DemParticles<3>&,
+                                     const std::vector<Vec<3>>&, const std::vector<double>&,
+                                     SphParticles<3>&, std::vector<double>&);
+
+}  // namespace sphdem

@@ -1,0 +1,125 @@
+// DemRun<D>: checkpoint and restart of a fibers-only run (docs/checkpoint.md).
+// The DEM particles go through the same column templates as the resin's,
+// group "dem"; every rank reads the whole group back, since DemDomain starts
+// from the full set and keeps the particles in its cells. The walls' state
+// (the piston's segments move) is stored as numbers.
+#include <fmt/format.h>
+
+#include <ostream>
+
+#include "sphdem/checkpoint.hpp"
+#include "sphdem/dem_run.hpp"
+#include "sphdem/io.hpp"
+
+namespace sphdem {
+
+namespace {
+
+// Per wall: type, point, normal, end, velocity.
+template <int D>
+std::vector<double> wall_state(const std::vector<DemWall<D>>& walls) {
+  std::vector<double> out;
+  for (const DemWall<D>& w : walls) {
+    out.push_back(w.type == DemWall<D>::Type::Plane ? 0.0 : 1.0);
+    for (const Vec<D>* v : {&w.point, &w.normal, &w.end, &w.velocity})
+      for (int k = 0; k < D; ++k) out.push_back((*v)[k]);
+  }
+  return out;
+}
+
+template <int D>
+bool set_wall_state(std::vector<DemWall<D>>& walls, const std::vector<double>& s) {
+  if (s.size() != walls.size() * (1 + 4 * D)) return false;
+  std::size_t i = 0;
+  for (DemWall<D>& w : walls) {
+    if (s[i++] != (w.type == DemWall<D>::Type::Plane ? 0.0 : 1.0)) return false;
+    for (Vec<D>* v : {&w.point, &w.normal, &w.end, &w.velocity})
+      for (int k = 0; k < D; ++k) (*v)[k] = s[i++];
+  }
+  return true;
+}
+
+}  // namespace
+
+template <int D>
+std::string DemRun<D>::write_checkpoint() {
+  const std::string path = checkpoint_path(opt_.output_dir, case_.name, step_);
+  dem_->store_state();  // the contact history into the particles' slots
+  {
+    CheckpointWriter w(comm_, path);
+    w.attribute("case", case_.name);
+    w.attribute("identity", case_identity_text(case_));
+    w.attribute("case_text", case_.source_text);
+    w.attribute("ranks", static_cast<std::int64_t>(comm_.size()));
+    w.attribute("step", step_);
+    w.attribute("time", time_);
+    w.attribute("dt", dt_);
+    w.attribute("snapshots", snapshots_);
+    w.attribute("last_snapshot_step", last_snapshot_step_);
+    w.attribute("dem_walls", wall_state(dem_->walls()));
+    w.particles("dem", checkpoint_columns(dem_->particles()));
+    w.commit();
+  }
+  last_checkpoint_step_ = step_;
+  last_checkpoint_ = path;
+  prune_checkpoints(comm_, opt_.output_dir, case_.name, case_.checkpoint.keep);
+  if (opt_.log && comm_.root())
+    *opt_.log << fmt::format("step {}: checkpoint {}\n", step_, path) << std::flush;
+  return path;
+}
+
+template <int D>
+std::string DemRun<D>::restart_from(const std::string& checkpoint) {
+  const std::string path =
+      restart_from_checkpoint(checkpoint, opt_.output_dir, case_.name, comm_, opt_.log,
+                              [this](const std::string& p) { load_checkpoint(p); });
+  if (opt_.log && comm_.root())
+    *opt_.log << fmt::format("restarting from {} (step {}, t = {:.6g} s)\n", path, step_, time_)
+              << std::flush;
+  return path;
+}
+
+// Reads everything first, then commits (see Simulation::load_checkpoint).
+template <int D>
+void DemRun<D>::load_checkpoint(const std::string& path) {
+  CheckpointReader r(comm_, path);
+  check_case_identity(case_, r.text("identity"), path);
+  const std::int64_t n = r.count("dem");
+  if (n != dem_->global_count())
+    throw InputError(path, 0, "",
+                     fmt::format("the checkpoint holds {} DEM particles, the case makes {}", n,
+                                 dem_->global_count()));
+  const std::vector<CheckpointColumn> cols = r.particles("dem", /*all_rows=*/true);
+  DemParticles<D> all;
+  assign_checkpoint_columns(all, cols, static_cast<std::size_t>(n), path);
+  std::vector<DemWall<D>> walls = dem_->walls();
+  if (!set_wall_state(walls, r.reals("dem_walls")))
+    throw InputError(path, 0, "", "the checkpoint's DEM walls do not match the case's");
+  const std::int64_t step = r.integer("step");
+  const double time = r.real("time");
+  const std::int64_t snapshots = r.integer("snapshots");
+  const std::int64_t last_snapshot = r.integer("last_snapshot_step");
+
+  // Commit: a new domain from the checkpoint's particles, on the same cells.
+  dem_ = std::make_unique<DemDomain<D>>(*dec_, dem_->params(), std::move(walls), std::move(all),
+                                        dem_->halo_range());
+  step_ = step;
+  time_ = time;
+  snapshots_ = snapshots;
+  last_snapshot_step_ = last_snapshot;
+  restarted_ = true;
+  last_checkpoint_step_ = step_;
+  last_checkpoint_ = path;
+  if (opt_.write_output) {
+    writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name);
+    writer_->resume(step_);
+    discard_checkpoints_after(comm_, opt_.output_dir, case_.name, step_);
+  }
+}
+
+template std::string DemRun<2>::write_checkpoint();
+template std::string DemRun<3>::write_checkpoint();
+template std::string DemRun<2>::restart_from(const std::string&);
+template std::string DemRun<3>::restart_from(const std::string&);
+
+}  // namespace sphdem

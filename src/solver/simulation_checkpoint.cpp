@@ -1,0 +1,181 @@
+// Simulation<D>: checkpoint and restart (docs/checkpoint.md).
+//
+// Bitwise continuation. The gather formulation makes the rates independent
+// of the particle layout and of the rank count; what else a continued run
+// must reproduce is *when* the neighbor lists are rebuilt, because periodic
+// positions wrap (x -= L, a rounding) only at a rebuild. So a checkpoint
+// stores each particle's position at the last rebuild (x_at_build), and a
+// restart rebuilds there: the particles are migrated, sorted and listed at
+// those positions (no wrap: they were wrapped then), exactly as the run did,
+// then take their current positions back. The next rebuild, and the wrap,
+// then fall on the same step as in the uninterrupted run.
+#include <fmt/format.h>
+
+#include <cstring>
+#include <filesystem>
+#include <ostream>
+
+#include "sphdem/checkpoint.hpp"
+#include "sphdem/io.hpp"
+#include "sphdem/solver.hpp"
+
+namespace sphdem {
+
+namespace {
+
+std::string wall_names(const std::vector<WallMotion>& walls) {
+  std::string names;
+  for (const WallMotion& w : walls) names += w.name + "\n";
+  return names;
+}
+
+// The fibers of a coupled run are not in a checkpoint yet: refuse rather
+// than restart them from their initial placement.
+void refuse_fibers(const Case& c) {
+  if (c.fibers)
+    throw InputError(c.source_file, c.fibers->line, "fibers",
+                     "checkpoints of resin + fiber runs are not implemented yet "
+                     "(docs/checkpoint.md)");
+}
+
+}  // namespace
+
+template <int D>
+std::string Simulation<D>::write_checkpoint() {
+  refuse_fibers(case_);
+  ScopedPhase t(timers_, Phase::Io);
+  const std::string path = checkpoint_path(opt_.output_dir, case_.name, step_);
+  {
+    CheckpointWriter w(comm_, path);
+    w.attribute("case", case_.name);
+    w.attribute("identity", case_identity_text(case_));
+    w.attribute("case_text", case_.source_text);
+    w.attribute("ranks", static_cast<std::int64_t>(comm_.size()));
+    w.attribute("step", step_);
+    w.attribute("time", time_);
+    w.attribute("dt", dt_.dt);
+    w.attribute("dt_limit", static_cast<std::int64_t>(dt_.limit));
+    w.attribute("snapshots", snapshots_);
+    w.attribute("last_snapshot_step", last_snapshot_step_);
+    w.attribute("last_balance_step", last_balance_step_);
+    w.attribute("repartitions", repartitions_);
+    std::vector<double> scale, face;
+    for (const WallMotion& m : walls_) {
+      scale.push_back(m.scale);
+      face.push_back(m.face_pressure);
+    }
+    w.attribute("wall_names", wall_names(walls_));
+    w.attribute("wall_scale", scale);
+    w.attribute("wall_face_pressure", face);
+    std::vector<CheckpointColumn> cols = checkpoint_columns(ps_);
+    const std::vector<Vec<D>>& xb = nl_.positions_at_build();
+    CheckpointColumn build{"x_at_build", ColumnType::F64, D, sizeof(Vec<D>), {}};
+    build.data.resize(ps_.n_owned * sizeof(Vec<D>));
+    if (xb.size() != ps_.n_owned)
+      throw std::logic_error("sphdem: neighbor list and particles disagree at a checkpoint");
+    if (ps_.n_owned > 0) std::memcpy(build.data.data(), xb.data(), build.data.size());
+    cols.push_back(std::move(build));
+    w.particles("sph", cols);
+    w.commit();
+  }
+  last_checkpoint_step_ = step_;
+  last_checkpoint_ = path;
+  prune_checkpoints(comm_, opt_.output_dir, case_.name, case_.checkpoint.keep);
+  if (opt_.log && comm_.root())
+    *opt_.log << fmt::format("step {}: checkpoint {}\n", step_, path) << std::flush;
+  return path;
+}
+
+template <int D>
+std::string Simulation<D>::restart_from(const std::string& checkpoint) {
+  refuse_fibers(case_);
+  const std::string path =
+      restart_from_checkpoint(checkpoint, opt_.output_dir, case_.name, comm_, opt_.log,
+                              [this](const std::string& p) { load_checkpoint(p); });
+  if (opt_.log && comm_.root())
+    *opt_.log << fmt::format("restarting from {} (step {}, t = {:.6g} s)\n", path, step_, time_)
+              << std::flush;
+  return path;
+}
+
+// Reads everything first, then commits: a refused checkpoint leaves the
+// simulation as it was (so `latest` can try an older one).
+template <int D>
+void Simulation<D>::load_checkpoint(const std::string& path) {
+  CheckpointReader r(comm_, path);
+  check_case_identity(case_, r.text("identity"), path);
+  const std::int64_t n = r.count("sph");
+  if (n != n_fluid_global_ + n_wall_global_)
+    throw InputError(path, 0, "",
+                     fmt::format("the checkpoint holds {} SPH particles, the case makes {}", n,
+                                 n_fluid_global_ + n_wall_global_));
+  std::vector<CheckpointColumn> cols = r.particles("sph");
+  const CheckpointColumn build = take_column(cols, "x_at_build", path);
+  if (build.row_bytes != sizeof(Vec<D>))
+    throw InputError(path, 0, "", "field 'x_at_build' has the wrong size");
+  SphParticles<D> loaded;
+  const std::size_t rows = cols.empty() ? 0 : cols.front().rows();
+  assign_checkpoint_columns(loaded, cols, rows, path);
+  if (r.text("wall_names") != wall_names(walls_))
+    throw InputError(path, 0, "",
+                     "the checkpoint's moving and sliding walls differ from the case's");
+  const std::vector<double> scale = r.reals("wall_scale");
+  const std::vector<double> face = r.reals("wall_face_pressure");
+  if (scale.size() != walls_.size() || face.size() != walls_.size())
+    throw InputError(path, 0, "", "the checkpoint's wall state does not match the case's walls");
+  const std::int64_t step = r.integer("step");
+  const double time = r.real("time");
+  const double dt = r.real("dt");
+  const std::int64_t dt_limit = r.integer("dt_limit");
+  const std::int64_t snapshots = r.integer("snapshots");
+  const std::int64_t last_snapshot = r.integer("last_snapshot_step");
+  const std::int64_t last_balance = r.integer("last_balance_step");
+  const std::int64_t repartitions = r.integer("repartitions");
+
+  // Commit.
+  ps_ = std::move(loaded);
+  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
+    ps_.p[i] = 0.0;  // derived, recomputed before use
+    ps_.vwall[i] = ps_.v[i];
+    ps_.rho_half[i] = ps_.rho[i];
+    // v_half is free until the next step's first kick: it carries the
+    // current position through the rebuild at the positions of the last one.
+    ps_.v_half[i] = ps_.x[i];
+    std::memcpy(static_cast<void*>(ps_.x[i].data()), build.data.data() + i * sizeof(Vec<D>),
+                sizeof(Vec<D>));
+  }
+  dec_.partition(dec_.cell_work(ps_, ps_.n_owned), /*replicated=*/false);
+  rebuild_neighbors(/*restart=*/true);
+  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
+    ps_.x[i] = ps_.v_half[i];
+    ps_.v_half[i] = ps_.v[i];
+  }
+  last_imbalance_ = dec_.imbalance(ps_);
+  for (std::size_t k = 0; k < walls_.size(); ++k) {
+    walls_[k].scale = scale[k];
+    walls_[k].face_pressure = face[k];
+  }
+  step_ = step;
+  time_ = time;
+  dt_.dt = dt;
+  dt_.limit = static_cast<DtLimit>(dt_limit);
+  snapshots_ = snapshots;
+  last_snapshot_step_ = last_snapshot;
+  last_balance_step_ = last_balance;
+  repartitions_ = repartitions;
+  restarted_ = true;
+  last_checkpoint_step_ = step_;
+  last_checkpoint_ = path;
+  if (opt_.write_output) {
+    writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name);
+    writer_->resume(step_);
+    discard_checkpoints_after(comm_, opt_.output_dir, case_.name, step_);
+  }
+}
+
+template std::string Simulation<2>::write_checkpoint();
+template std::string Simulation<3>::write_checkpoint();
+template std::string Simulation<2>::restart_from(const std::string&);
+template std::string Simulation<3>::restart_from(const std::string&);
+
+}  // namespace sphdem

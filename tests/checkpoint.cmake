@@ -1,0 +1,19 @@
+# Checkpoint and restart (issue 6, docs/checkpoint.md).
+# In process: restarts are bitwise at 1, 2 and 3 ranks (checkpoint written on
+# P - 1 ranks, restarted on P - 1, P and 1), foreign checkpoints refused.
+sphdem_test(test_checkpoint SOURCES test_checkpoint.cpp RANKS 1 2 3 LABELS "unit;checkpoint"
+            TIMEOUT 120)
+
+# End to end through `sphdem run` (tests/check_checkpoint.py): a stop signal
+# (SIGTERM to one rank, SIGUSR1 to mpiexec), SIGKILL of one rank, a crash
+# between the data write and the rename, and refused checkpoints (truncated,
+# corrupt, another case, another format, an output directory in use).
+foreach(_scenario sigterm sigusr1 sigkill abort_in_write refused dem)
+  add_test(NAME checkpoint_${_scenario}
+           COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_checkpoint.py ${_scenario}
+                   $<TARGET_FILE:sphdem> ${PROJECT_SOURCE_DIR}
+                   ${CMAKE_CURRENT_BINARY_DIR}/checkpoint_work/${_scenario}
+                   ${MPIEXEC_EXECUTABLE} ${SPHDEM_MPIEXEC_FLAGS})
+  set_tests_properties(checkpoint_${_scenario} PROPERTIES LABELS "cli;checkpoint" TIMEOUT 180
+                                                          PROCESSORS 2)
+endforeach()
