@@ -145,7 +145,8 @@ DemSystem<3> make_3d(const Options& o, Setup& s) {
         const Vec<3> dir(q * std::cos(phi), q * std::sin(phi), z);
         std::int64_t prev = -1;
         for (int a = 0; a < 4; ++a) {
-          const std::int64_t id = sys.add_particle(c + (a - 1.5) * 2.0 * r * dir, r, density, placed);
+          const std::int64_t id =
+              sys.add_particle(c + (a - 1.5) * 2.0 * r * dir, r, density, placed);
           if (prev >= 0) sys.add_bond(prev, id);
           prev = id;
         }
@@ -228,8 +229,8 @@ std::uint64_t state_hash(const Comm& comm, const DemParticles<D>& ps) {
   std::partial_sum(counts.begin(), counts.end() - 1, displs.begin() + 1);
   std::vector<double> all(comm.root() ? static_cast<std::size_t>(displs.back() + counts.back())
                                       : 0);
-  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(),
-              MPI_DOUBLE, 0, comm.raw());
+  MPI_Gatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), displs.data(), MPI_DOUBLE,
+              0, comm.raw());
   if (!comm.root()) return 0;
   const std::size_t n = all.size() / per;
   std::vector<std::size_t> order(n);
@@ -330,12 +331,11 @@ int run(const Options& o, DemSystem<D> sys, double dt, const Box<D>& box,
   const double whole_max = comm.max(whole);
   const double total_steps = static_cast<double>(o.settle ? 2 * o.steps : o.steps);
   // Breakdown: rank 0's and the slowest rank's (by loop time).
-  const double others = loop - prof.pairs - prof.gather - prof.walls - prof.kick_drift -
-                        prof.halo - prof.collective - prof.rebuild - t_rebalance;
-  std::vector<double> mine{prof.pairs,      prof.gather,  prof.walls,
-                           prof.kick_drift, prof.halo,    prof.collective,
-                           prof.rebuild,    t_rebalance,  others,
-                           loop,            prof.rebuild_pairs};
+  const double others = loop - prof.pairs - prof.gather - prof.walls - prof.kick_drift - prof.halo -
+                        prof.collective - prof.rebuild - t_rebalance;
+  std::vector<double> mine{prof.pairs,        prof.gather,  prof.walls,  prof.kick_drift, prof.halo,
+                           prof.collective,   prof.rebuild, t_rebalance, others,          loop,
+                           prof.rebuild_pairs};
   std::vector<double> all(comm.root() ? mine.size() * static_cast<std::size_t>(comm.size()) : 0);
   MPI_Gather(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(),
              static_cast<int>(mine.size()), MPI_DOUBLE, 0, comm.raw());
@@ -343,10 +343,10 @@ int run(const Options& o, DemSystem<D> sys, double dt, const Box<D>& box,
     std::printf("dem %dD: %d fibers, %lld particles, %lld bonds, %d rank(s), dt %.4g\n", D,
                 static_cast<int>(n / 4), static_cast<long long>(n), static_cast<long long>(bonds),
                 comm.size(), dt);
-    std::printf("steps %ld%s, rebuilds %lld, re-partitions %lld, imbalance max %.1f %% end %.1f %%\n",
-                o.steps, o.settle ? " (after as many untimed)" : "",
-                static_cast<long long>(rebuilds), static_cast<long long>(repartitions),
-                100 * max_imbalance, 100 * final_imbalance);
+    std::printf(
+        "steps %ld%s, rebuilds %lld, re-partitions %lld, imbalance max %.1f %% end %.1f %%\n",
+        o.steps, o.settle ? " (after as many untimed)" : "", static_cast<long long>(rebuilds),
+        static_cast<long long>(repartitions), 100 * max_imbalance, 100 * final_imbalance);
     std::printf("end: %lld particle contacts, %lld wall contacts, %lld ghosts\n",
                 static_cast<long long>(contacts), static_cast<long long>(wall_contacts),
                 static_cast<long long>(ghosts_total));
@@ -403,8 +403,7 @@ int main(int argc, char** argv) {
         o.fibers = std::stoi(next());
       } else if (a == "--grid") {
         const std::string g = next();
-        if (std::sscanf(g.c_str(), "%dx%dx%d", &o.grid[0], &o.grid[1], &o.grid[2]) != 3)
-          status = 2;
+        if (std::sscanf(g.c_str(), "%dx%dx%d", &o.grid[0], &o.grid[1], &o.grid[2]) != 3) status = 2;
       } else if (a == "--steps") {
         o.steps = std::stol(next());
       } else if (a == "--settle") {

@@ -8,7 +8,7 @@ want=(
   openmpi-bin libopenmpi-dev libhdf5-openmpi-dev hdf5-tools
   libmetis-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  python3 python3-numpy python3-h5py python3-matplotlib
+  python3 python3-numpy python3-h5py python3-matplotlib python3-yaml
 )
 if [[ "${1:-}" != "--no-paraview" ]]; then want+=(python3-paraview paraview); fi
 missing=()

@@ -38,3 +38,18 @@ sphdem_test(test_coupled SOURCES test_coupled.cpp RANKS 1 2 LABELS "validation;c
             TIMEOUT 600)
 sphdem_test(test_coupled_parallel SOURCES test_coupled_parallel.cpp RANKS 1 2 3 4
             LABELS "mpi;coupling" TIMEOUT 600)
+
+# The short paper plate with its 175 fibers, end to end on 2 ranks (5 ms:
+# the piston pushes resin and fibers 4.7 mm); the fibers stay in the mold.
+add_test(NAME plate_fibers_short_run
+         COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${SPHDEM_MPIEXEC_FLAGS}
+                 $<TARGET_FILE:sphdem> run ${PROJECT_SOURCE_DIR}/inputs/plate_fibers_short.yaml -q
+                 --overwrite -o ${CMAKE_CURRENT_BINARY_DIR}/plate_fibers_short_out)
+set_tests_properties(plate_fibers_short_run PROPERTIES LABELS "case;coupling" TIMEOUT 900
+                                                       FIXTURES_SETUP plate_fibers_short)
+add_test(NAME plate_fibers_short_check
+         COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_plate_fibers.py
+                 ${CMAKE_CURRENT_BINARY_DIR}/plate_fibers_short_out --fluid 10000 --dem 700
+                 --min-drift 1e-3)
+set_tests_properties(plate_fibers_short_check PROPERTIES LABELS "case;coupling" TIMEOUT 120
+                                                         FIXTURES_REQUIRED plate_fibers_short)

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -191,6 +192,67 @@ TEST(Checkpoint, RestartIsBitwiseWithThePistonController) {
     const FullState s = read_all(checkpoint_path(work_dir("plate") + "/straight", c.name, 202));
     ASSERT_EQ(s.wall_scale.size(), 1u);
     EXPECT_LT(s.wall_scale[0], 1.0) << "the pressure limit never acted: the test proves nothing";
+  }
+}
+
+// A coupled resin + fiber case (tests/test_coupled_parallel.cpp's): the
+// fibers are in the checkpoint (group "dem", with their drag law and the
+// coupled step) and a restart on another rank count continues the run
+// bitwise: the DEM domain takes the checkpoint's forces as current.
+constexpr const char* kCoupled = R"(name: coupled
+dimension: 2
+resin: {density: 900, viscosity: 0.1, sound_speed: 50}
+numerics: {spacing: 3.0e-4, end_time: 1.0, delta_sph: 0.1}
+mold:
+  shapes:
+    - box: {min: [0, 0], max: [0.015, 0.009]}
+fill:
+  - box: {min: [0, 0], max: [0.015, 0.006]}
+fibers:
+  count: 30
+  diameter: 2.5e-4
+  density: 2540
+  youngs_modulus: 1.0e8
+  tensile_strength: 2.0e9
+  region: {box: {min: [0.001, 0.001], max: [0.014, 0.005]}}
+body_force: [0, -2000]
+initial_velocity: [0.5, 0.2]
+)";
+
+TEST(Checkpoint, CoupledRunRestartsWithItsFibers) {
+  const Case c = load_case_from_string(kCoupled, "coupled.yaml");
+  const std::string dir = work_dir("coupled");
+  if (world_rank() == 0) fs::remove_all(dir);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const std::int64_t n = 40;
+  const std::string straight = run_and_checkpoint(c, MPI_COMM_WORLD, dir + "/straight", 2 * n);
+  if (world_rank() == 0) run_and_checkpoint(c, MPI_COMM_SELF, dir + "/half", n);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const std::string again = run_and_checkpoint(c, MPI_COMM_WORLD, dir + "/again", 2 * n,
+                                               checkpoint_path(dir + "/half", c.name, n));
+  if (world_rank() != 0) return;
+  const Comm self(MPI_COMM_SELF);
+  for (const char* group : {"sph", "dem"}) {
+    CheckpointReader ra(self, straight), rb(self, again);
+    const std::vector<CheckpointColumn> a = ra.particles(group), b = rb.particles(group);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      if (a[k].type == ColumnType::Bytes) continue;  // slots: padding bytes are undefined
+      ASSERT_EQ(a[k].data.size(), b[k].data.size());
+      if (a[k].type != ColumnType::F64) {
+        EXPECT_TRUE(a[k].data == b[k].data) << group << "/" << a[k].name;
+        continue;
+      }
+      double worst = 0, scale = 0;
+      for (std::size_t i = 0; i < a[k].data.size() / 8; ++i) {
+        double x = 0, y = 0;
+        std::memcpy(&x, a[k].data.data() + 8 * i, 8);
+        std::memcpy(&y, b[k].data.data() + 8 * i, 8);
+        worst = std::max(worst, std::abs(x - y));
+        scale = std::max(scale, std::abs(x));
+      }
+      EXPECT_EQ(worst, 0.0) << group << "/" << a[k].name << " (scale " << scale << ")";
+    }
   }
 }
 

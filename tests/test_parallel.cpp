@@ -364,7 +364,7 @@ TEST(Timings, RunWritesOneRowPerRank) {
   ASSERT_TRUE(csv) << "timings.csv";
   std::string line;
   std::getline(csv, line);
-  EXPECT_EQ(line, "rank,compute,halo,migration,rebalance,io,wait,total");
+  EXPECT_EQ(line, "rank,compute,halo,migration,rebalance,io,wait,dem,coupling,total");
   int rows = 0;
   while (std::getline(csv, line)) ++rows;
   EXPECT_EQ(rows, world.size());

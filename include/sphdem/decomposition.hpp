@@ -93,6 +93,10 @@ class Decomposition {
   // Collective: max over ranks of the owned work divided by the mean, minus
   // 1 (0 on one rank). Integer sums, so every rank count agrees exactly.
   double imbalance(const SphParticles<D>& ps) const;
+  // Collective: the same for any work per cell (this rank's particles'
+  // share), summed over ranks and assigned to the cells' current owners
+  // (so it is right before migration too).
+  double imbalance(const std::vector<std::int64_t>& work) const;
 
   // Drops the owned particles (SPH or DEM) that lie in other ranks' cells
   // (no communication: the start, when every rank holds every particle).

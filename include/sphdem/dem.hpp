@@ -90,24 +90,34 @@ struct DemWorkspace {
   bool pairs_valid = false;
   bool forces_valid = false;  // force/torque hold the current state's values
   std::vector<std::int32_t> cell_start, cell_items;
+  // Per owned particle, the walls within reach at the build:
+  // wall_items[wall_start[i] .. wall_start[i+1]), and the walls' positions then.
+  std::vector<std::int32_t> wall_start, wall_items;
+  std::vector<Vec<D>> wall_ref;
   void invalidate() { pairs_valid = forces_valid = false; }
 };
 
 // Builds the pair list over owned and ghost particles (the contact history
 // read from the slots). Throws SimulationError when an owned particle's
 // bond partner is absent (not owned, not a ghost).
+// Also lists each owned particle's candidate walls (dem_build_wall_lists).
 template <int D>
-void dem_build_pairs(const DemParams<D>& p, DemParticles<D>& ps, DemWorkspace<D>& ws);
+void dem_build_pairs(const DemParams<D>& p, const std::vector<DemWall<D>>& walls,
+                     DemParticles<D>& ps, DemWorkspace<D>& ws);
+template <int D>
+void dem_build_wall_lists(const std::vector<DemWall<D>>& walls, const DemParticles<D>& ps,
+                          DemWorkspace<D>& ws);
 
 // Writes the contact history of the pairs back to the slots of their owned
 // owners (call before migration, output and checkpoints).
 template <int D>
 void dem_store_pair_state(DemParticles<D>& ps, const DemWorkspace<D>& ws);
 
-// Largest squared displacement of an owned particle since the last build;
-// the list must be rebuilt once it passes (skin / 2)^2.
+// Largest squared displacement of an owned particle or a wall since the
+// last build; the lists must be rebuilt once it passes (skin / 2)^2.
 template <int D>
-double dem_max_displacement2(const DemParticles<D>& ps, const DemWorkspace<D>& ws);
+double dem_max_displacement2(const DemParticles<D>& ps, const std::vector<DemWall<D>>& walls,
+                             const DemWorkspace<D>& ws);
 
 // The two halves of a velocity-Verlet sub-step for the parallel driver:
 // kick(dt/2) + drift(dt) of the owned particles and the walls, then (after

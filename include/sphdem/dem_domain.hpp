@@ -38,6 +38,10 @@ class DemDomain {
   void advance(std::int64_t n, double dt);
   // Collective. Migration, ghosts, pair list (after a re-partition).
   void rebuild();
+  // Take the particles' force and torque as those of the current state
+  // (a restart: they come from the checkpoint), so the first sub-step does
+  // not evaluate them again.
+  void adopt_forces() { ws_.forces_valid = true; }
   // The contact history back into the owners' slots (before output).
   void store_state() { dem_store_pair_state(ps_, ws_); }
 

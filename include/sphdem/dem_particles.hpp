@@ -124,10 +124,10 @@ struct DemParticles {
   // (drag_velocity - v), coefficient K V_f and Shepard resin velocity held
   // from the last coupling pass; the impulse it gave since then goes back
   // to the resin at the next pass.
-  std::vector<double> drag_coeff;      // [kg/s]
-  std::vector<Vec<D>> drag_velocity;   // [m/s]
-  std::vector<Vec<D>> drag_force;      // of the last force evaluation [N]
-  std::vector<Vec<D>> drag_impulse;    // since the last coupling pass [N s]
+  std::vector<double> drag_coeff;     // [kg/s]
+  std::vector<Vec<D>> drag_velocity;  // [m/s]
+  std::vector<Vec<D>> drag_force;     // of the last force evaluation [N]
+  std::vector<Vec<D>> drag_impulse;   // since the last coupling pass [N s]
   // Owned interaction state (owner rule above).
   std::vector<BondSlots<D>> bonds;
   std::vector<ContactSlots<D>> contacts;

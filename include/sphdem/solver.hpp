@@ -113,6 +113,7 @@ class Simulation {
   void rebuild_neighbors(bool restart = false);
   void load_checkpoint(const std::string& path);
   void maybe_rebalance();
+  std::vector<std::int64_t> cell_work() const;
   void compute_rates();
   void couple();
   void init_fibers();

@@ -93,10 +93,9 @@ int check_dem_case(const Case& c, const Comm& comm) {
       "  time step: {:.4g} s, limited by dem (fibers.dt_safety {})\n"
       "  steps to end_time {:.4g} s: about {:.0f}\n"
       "  run time: about {:.0f} s on one core (at {:.1g} particle-steps/s)\n",
-      c.name, D, run.dem().global_count(), run.placement().fibers,
-      100 * run.placement().fraction, run.dem().walls().size(), run.dt(), c.fibers->dt_safety,
-      c.numerics.end_time, steps, n * steps / kDemParticleStepsPerSecond,
-      kDemParticleStepsPerSecond);
+      c.name, D, run.dem().global_count(), run.placement().fibers, 100 * run.placement().fraction,
+      run.dem().walls().size(), run.dt(), c.fibers->dt_safety, c.numerics.end_time, steps,
+      n * steps / kDemParticleStepsPerSecond, kDemParticleStepsPerSecond);
   return 0;
 }
 
@@ -108,11 +107,6 @@ int run_case(const Case& c, const RunArgs& a, const Comm& comm) {
   opt.log = a.quiet ? nullptr : &std::cout;
   if (a.checkpoint_every > 0) opt.checkpoint_every = a.checkpoint_every;
   opt.stop_requested = stop_requested;
-  if (c.fibers && (!a.restart.empty() || a.checkpoint_every > 0 || c.checkpoint.every_steps ||
-                   c.checkpoint.every_minutes))
-    throw InputError(c.source_file, c.fibers->line, "fibers",
-                     "checkpoints of resin + fiber runs are not implemented yet "
-                     "(docs/checkpoint.md)");
   prepare_output_dir(comm, opt.output_dir.empty() ? c.output.directory : opt.output_dir,
                      !a.restart.empty(), a.overwrite);
   Simulation<D> sim(c, comm, opt);

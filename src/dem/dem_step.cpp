@@ -173,17 +173,19 @@ void evaluate_pair(const DemParams<D>& p, double dt, DemParticles<D>& ps, DemPai
   pr.active = true;
 }
 
-// Contacts of owned particle i with the walls, history in its wall slots.
+// Contacts of owned particle i with its candidate walls (the walls within
+// reach at the last build, in increasing index), history in its wall slots.
 template <int D>
 void wall_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
-                 DemParticles<D>& ps, std::size_t i) {
+                 DemParticles<D>& ps, std::size_t i, const std::int32_t* cand, std::int32_t n_cand) {
   // Fast path, most particles: no wall within reach and no history to drop.
   bool busy = false;
   for (const auto& c : ps.wall_contacts[i]) busy = busy || c.partner != DemContact<D>::kNone;
-  for (std::size_t w = 0; w < walls.size() && !busy; ++w) {
+  for (std::int32_t k = 0; k < n_cand && !busy; ++k) {
     Vec<D> nv;
     double delta;
-    busy = wall_contact<D>(walls[w], ps.x[i], ps.radius[i], nv, delta);
+    busy = wall_contact<D>(walls[static_cast<std::size_t>(cand[k])], ps.x[i], ps.radius[i], nv,
+                           delta);
   }
   if (!busy) return;
   const WallContactSlots<D> old = ps.wall_contacts[i];
@@ -191,7 +193,8 @@ void wall_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>
   slots = WallContactSlots<D>{};
   int used = 0;
   const double ri = ps.radius[i];
-  for (std::size_t w = 0; w < walls.size(); ++w) {
+  for (std::int32_t k = 0; k < n_cand; ++k) {
+    const auto w = static_cast<std::size_t>(cand[k]);
     Vec<D> nv;
     double delta;
     if (!wall_contact<D>(walls[w], ps.x[i], ri, nv, delta)) continue;
@@ -216,7 +219,8 @@ void wall_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>
 }  // namespace
 
 template <int D>
-void dem_build_pairs(const DemParams<D>& p, DemParticles<D>& ps, DemWorkspace<D>& ws) {
+void dem_build_pairs(const DemParams<D>& p, const std::vector<DemWall<D>>& walls,
+                     DemParticles<D>& ps, DemWorkspace<D>& ws) {
   const dem_detail::DemTimer timer(dem_detail::dem_profile().rebuild_pairs);
   const std::size_t n = ps.size(), n_own = ps.n_owned;
   double r_max = 0, r_min = std::numeric_limits<double>::infinity();
@@ -303,6 +307,7 @@ void dem_build_pairs(const DemParams<D>& p, DemParticles<D>& ps, DemWorkspace<D>
               [&](std::int32_t x, std::int32_t y) { return partner_gid(x) < partner_gid(y); });
   }
   ws.x_ref.assign(ps.x.begin(), ps.x.begin() + static_cast<std::ptrdiff_t>(n_own));
+  dem_build_wall_lists(walls, ps, ws);
   ws.pairs_valid = true;
 }
 
@@ -329,11 +334,34 @@ void dem_store_pair_state(DemParticles<D>& ps, const DemWorkspace<D>& ws) {
 }
 
 template <int D>
-double dem_max_displacement2(const DemParticles<D>& ps, const DemWorkspace<D>& ws) {
+double dem_max_displacement2(const DemParticles<D>& ps, const std::vector<DemWall<D>>& walls,
+                             const DemWorkspace<D>& ws) {
   double m = 0;
   for (std::size_t i = 0; i < ps.n_owned && i < ws.x_ref.size(); ++i)
     m = std::max(m, (ps.x[i] - ws.x_ref[i]).squaredNorm());
+  for (std::size_t w = 0; w < walls.size() && w < ws.wall_ref.size(); ++w)
+    m = std::max(m, (walls[w].point - ws.wall_ref[w]).squaredNorm());
   return m;
+}
+
+// Per owned particle, the walls within its radius + skin: while neither it
+// nor a wall moves more than skin / 2, no other wall can touch it.
+template <int D>
+void dem_build_wall_lists(const std::vector<DemWall<D>>& walls, const DemParticles<D>& ps,
+                          DemWorkspace<D>& ws) {
+  ws.wall_start.assign(ps.n_owned + 1, 0);
+  ws.wall_items.clear();
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      Vec<D> nv;
+      double delta;
+      if (wall_contact<D>(walls[w], ps.x[i], ps.radius[i] + ws.skin, nv, delta))
+        ws.wall_items.push_back(static_cast<std::int32_t>(w));
+    }
+    ws.wall_start[i + 1] = static_cast<std::int32_t>(ws.wall_items.size());
+  }
+  ws.wall_ref.resize(walls.size());
+  for (std::size_t w = 0; w < walls.size(); ++w) ws.wall_ref[w] = walls[w].point;
 }
 
 template <int D>
@@ -350,8 +378,8 @@ void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemW
     // coefficient and resin velocity of the last coupling pass (so it stays
     // stable however many sub-steps the SPH step holds).
     ps.drag_force[i] = ps.drag_coeff[i] * (ps.drag_velocity[i] - ps.v[i]);
-    Vec<D> f = ps.mass[i] * (p.gravity - p.global_damping * ps.v[i]) + ps.f_ext[i] +
-               ps.drag_force[i];
+    Vec<D> f =
+        ps.mass[i] * (p.gravity - p.global_damping * ps.v[i]) + ps.f_ext[i] + ps.drag_force[i];
     Rot<D> t = -p.global_damping * ps.inertia[i] * ps.omega[i];
     for (std::int32_t e = ws.adj_start[i]; e < ws.adj_start[i + 1]; ++e) {
       const std::int32_t entry = ws.adj[static_cast<std::size_t>(e)];
@@ -370,7 +398,10 @@ void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemW
   }
   t_gather.stop();
   dem_detail::DemTimer t_walls(prof.walls);
-  for (std::size_t i = 0; i < n_own; ++i) wall_forces<D>(p, dt, walls, ps, i);
+  for (std::size_t i = 0; i < n_own; ++i) {
+    wall_forces<D>(p, dt, walls, ps, i, ws.wall_items.data() + ws.wall_start[i],
+                   ws.wall_start[i + 1] - ws.wall_start[i]);
+  }
   ws.forces_valid = true;
 }
 
@@ -411,12 +442,12 @@ void dem_force_kick(const DemParams<D>& p, double dt, const std::vector<DemWall<
 template <int D>
 void dem_step(const DemParams<D>& p, double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps,
               DemWorkspace<D>& ws) {
-  if (!ws.pairs_valid) dem_build_pairs(p, ps, ws);
+  if (!ws.pairs_valid) dem_build_pairs(p, walls, ps, ws);
   if (!ws.forces_valid) compute_dem_forces(p, 0.0, walls, ps, ws);
   dem_kick_drift(dt, walls, ps);
-  if (dem_max_displacement2(ps, ws) > 0.25 * ws.skin * ws.skin) {
+  if (dem_max_displacement2(ps, walls, ws) > 0.25 * ws.skin * ws.skin) {
     dem_store_pair_state(ps, ws);
-    dem_build_pairs(p, ps, ws);
+    dem_build_pairs(p, walls, ps, ws);
   }
   dem_force_kick(p, dt, walls, ps, ws);
 }
@@ -501,9 +532,11 @@ double dem_elastic_energy(const DemParams<D>& p, const std::vector<DemWall<D>>& 
                                       DemParticles<D>&, DemWorkspace<D>&);                         \
   template void dem_step<D>(const DemParams<D>&, double, std::vector<DemWall<D>>&,                 \
                             DemParticles<D>&, DemWorkspace<D>&);                                   \
-  template void dem_build_pairs<D>(const DemParams<D>&, DemParticles<D>&, DemWorkspace<D>&);       \
+  template void dem_build_pairs<D>(const DemParams<D>&, const std::vector<DemWall<D>>&,             \
+                                   DemParticles<D>&, DemWorkspace<D>&);       \
   template void dem_store_pair_state<D>(DemParticles<D>&, const DemWorkspace<D>&);                 \
-  template double dem_max_displacement2<D>(const DemParticles<D>&, const DemWorkspace<D>&);        \
+  template double dem_max_displacement2<D>(const DemParticles<D>&, const std::vector<DemWall<D>>&, \
+                                           const DemWorkspace<D>&);        \
   template void dem_kick_drift<D>(double, std::vector<DemWall<D>>&, DemParticles<D>&);             \
   template void dem_force_kick<D>(const DemParams<D>&, double, const std::vector<DemWall<D>>&,     \
                                   DemParticles<D>&, DemWorkspace<D>&);                             \

@@ -300,6 +300,20 @@ double Decomposition<D>::imbalance(const SphParticles<D>& ps) const {
   return static_cast<double>(most) * comm_.size() / static_cast<double>(total) - 1.0;
 }
 
+template <int D>
+double Decomposition<D>::imbalance(const std::vector<std::int64_t>& work) const {
+  std::vector<std::int64_t> total(work.size(), 0);
+  MPI_Allreduce(work.data(), total.data(), static_cast<int>(work.size()), MPI_INT64_T, MPI_SUM,
+                comm_.raw());
+  std::int64_t mine = 0, all = 0;
+  for (std::size_t c = 0; c < total.size(); ++c) {
+    all += total[c];
+    if (owner_[c] == comm_.rank()) mine += total[c];
+  }
+  if (all == 0) return 0.0;
+  return static_cast<double>(comm_.max(mine)) * comm_.size() / static_cast<double>(all) - 1.0;
+}
+
 template class CellGrid<2>;
 template class CellGrid<3>;
 template class Decomposition<2>;

@@ -49,7 +49,7 @@ void DemDomain<D>::rebuild() {
     ps_.clear_ghosts();
   }
   halo_.build(dec_, ps_, range_);
-  dem_build_pairs(params_, ps_, ws_);
+  dem_build_pairs(params_, walls_, ps_, ws_);
   ++rebuilds_;
 }
 
@@ -63,7 +63,7 @@ void DemDomain<D>::advance(std::int64_t n, double dt) {
     // One small collective per sub-step: every rank rebuilds at the same
     // sub-step, whatever the rank count.
     dem_detail::DemTimer t_collective(dem_detail::dem_profile().collective);
-    const bool moved = comm.max(dem_max_displacement2(ps_, ws_)) > limit2;
+    const bool moved = comm.max(dem_max_displacement2(ps_, walls_, ws_)) > limit2;
     t_collective.stop();
     if (moved) {
       rebuild();

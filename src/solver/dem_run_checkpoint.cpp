@@ -7,39 +7,12 @@
 
 #include <ostream>
 
+#include "dem_checkpoint.hpp"
 #include "sphdem/checkpoint.hpp"
 #include "sphdem/dem_run.hpp"
 #include "sphdem/io.hpp"
 
 namespace sphdem {
-
-namespace {
-
-// Per wall: type, point, normal, end, velocity.
-template <int D>
-std::vector<double> wall_state(const std::vector<DemWall<D>>& walls) {
-  std::vector<double> out;
-  for (const DemWall<D>& w : walls) {
-    out.push_back(w.type == DemWall<D>::Type::Plane ? 0.0 : 1.0);
-    for (const Vec<D>* v : {&w.point, &w.normal, &w.end, &w.velocity})
-      for (int k = 0; k < D; ++k) out.push_back((*v)[k]);
-  }
-  return out;
-}
-
-template <int D>
-bool set_wall_state(std::vector<DemWall<D>>& walls, const std::vector<double>& s) {
-  if (s.size() != walls.size() * (1 + 4 * D)) return false;
-  std::size_t i = 0;
-  for (DemWall<D>& w : walls) {
-    if (s[i++] != (w.type == DemWall<D>::Type::Plane ? 0.0 : 1.0)) return false;
-    for (Vec<D>* v : {&w.point, &w.normal, &w.end, &w.velocity})
-      for (int k = 0; k < D; ++k) (*v)[k] = s[i++];
-  }
-  return true;
-}
-
-}  // namespace
 
 template <int D>
 std::string DemRun<D>::write_checkpoint() {
@@ -56,7 +29,7 @@ std::string DemRun<D>::write_checkpoint() {
     w.attribute("dt", dt_);
     w.attribute("snapshots", snapshots_);
     w.attribute("last_snapshot_step", last_snapshot_step_);
-    w.attribute("dem_walls", wall_state(dem_->walls()));
+    w.attribute("dem_walls", dem_wall_state(dem_->walls()));
     w.particles("dem", checkpoint_columns(dem_->particles()));
     w.commit();
   }
@@ -93,7 +66,7 @@ void DemRun<D>::load_checkpoint(const std::string& path) {
   DemParticles<D> all;
   assign_checkpoint_columns(all, cols, static_cast<std::size_t>(n), path);
   std::vector<DemWall<D>> walls = dem_->walls();
-  if (!set_wall_state(walls, r.reals("dem_walls")))
+  if (!set_dem_wall_state(walls, r.reals("dem_walls")))
     throw InputError(path, 0, "", "the checkpoint's DEM walls do not match the case's");
   const std::int64_t step = r.integer("step");
   const double time = r.real("time");
@@ -103,6 +76,7 @@ void DemRun<D>::load_checkpoint(const std::string& path) {
   // Commit: a new domain from the checkpoint's particles, on the same cells.
   dem_ = std::make_unique<DemDomain<D>>(*dec_, dem_->params(), std::move(walls), std::move(all),
                                         dem_->halo_range());
+  dem_->adopt_forces();  // the checkpoint's: an evaluation would re-project contact springs
   step_ = step;
   time_ = time;
   snapshots_ = snapshots;

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <ostream>
 
+#include "dem_checkpoint.hpp"
 #include "sphdem/checkpoint.hpp"
 #include "sphdem/io.hpp"
 #include "sphdem/solver.hpp"
@@ -29,20 +30,10 @@ std::string wall_names(const std::vector<WallMotion>& walls) {
   return names;
 }
 
-// The fibers of a coupled run are not in a checkpoint yet: refuse rather
-// than restart them from their initial placement.
-void refuse_fibers(const Case& c) {
-  if (c.fibers)
-    throw InputError(c.source_file, c.fibers->line, "fibers",
-                     "checkpoints of resin + fiber runs are not implemented yet "
-                     "(docs/checkpoint.md)");
-}
-
 }  // namespace
 
 template <int D>
 std::string Simulation<D>::write_checkpoint() {
-  refuse_fibers(case_);
   ScopedPhase t(timers_, Phase::Io);
   const std::string path = checkpoint_path(opt_.output_dir, case_.name, step_);
   {
@@ -76,6 +67,15 @@ std::string Simulation<D>::write_checkpoint() {
     if (ps_.n_owned > 0) std::memcpy(build.data.data(), xb.data(), build.data.size());
     cols.push_back(std::move(build));
     w.particles("sph", cols);
+    if (dem_) {             // the fibers of a coupled run, as DemRun stores them
+      dem_->store_state();  // the contact history into the particles' slots
+      w.particles("dem", checkpoint_columns(dem_->particles()));
+      w.attribute("dem_walls", dem_wall_state(dem_->walls()));
+      // The step whose drag impulse the next coupling pass returns, and the
+      // sub-step count of the work estimate.
+      w.attribute("coupled_dt", coupled_dt_);
+      w.attribute("dem_substeps", substeps_);
+    }
     w.commit();
   }
   last_checkpoint_step_ = step_;
@@ -88,7 +88,6 @@ std::string Simulation<D>::write_checkpoint() {
 
 template <int D>
 std::string Simulation<D>::restart_from(const std::string& checkpoint) {
-  refuse_fibers(case_);
   const std::string path =
       restart_from_checkpoint(checkpoint, opt_.output_dir, case_.name, comm_, opt_.log,
                               [this](const std::string& p) { load_checkpoint(p); });
@@ -123,6 +122,26 @@ void Simulation<D>::load_checkpoint(const std::string& path) {
   const std::vector<double> face = r.reals("wall_face_pressure");
   if (scale.size() != walls_.size() || face.size() != walls_.size())
     throw InputError(path, 0, "", "the checkpoint's wall state does not match the case's walls");
+  // The fibers of a coupled run: every rank reads them all (DemDomain keeps
+  // those in its cells).
+  DemParticles<D> fibers;
+  std::vector<DemWall<D>> dem_walls;
+  double coupled_dt = 0;
+  std::int64_t dem_substeps = 0;
+  if (dem_) {
+    const std::int64_t nf = r.count("dem");
+    if (nf != dem_->global_count())
+      throw InputError(path, 0, "",
+                       fmt::format("the checkpoint holds {} DEM particles, the case makes {}", nf,
+                                   dem_->global_count()));
+    assign_checkpoint_columns(fibers, r.particles("dem", /*all_rows=*/true),
+                              static_cast<std::size_t>(nf), path);
+    dem_walls = dem_->walls();
+    if (!set_dem_wall_state(dem_walls, r.reals("dem_walls")))
+      throw InputError(path, 0, "", "the checkpoint's DEM walls do not match the case's");
+    coupled_dt = r.real("coupled_dt");
+    dem_substeps = r.integer("dem_substeps");
+  }
   const std::int64_t step = r.integer("step");
   const double time = r.real("time");
   const double dt = r.real("dt");
@@ -145,6 +164,16 @@ void Simulation<D>::load_checkpoint(const std::string& path) {
                 sizeof(Vec<D>));
   }
   dec_.partition(dec_.cell_work(ps_, ps_.n_owned), /*replicated=*/false);
+  // The fibers: a new DEM domain on the new map (before the rebuild, which
+  // rebuilds it too), whose forces are the checkpoint's (an evaluation
+  // would re-project the contacts' tangential springs: not bitwise).
+  if (dem_) {
+    dem_ = std::make_unique<DemDomain<D>>(dec_, dem_->params(), std::move(dem_walls),
+                                          std::move(fibers), dem_->halo_range());
+    dem_->adopt_forces();
+    coupled_dt_ = coupled_dt;
+    substeps_ = dem_substeps;
+  }
   rebuild_neighbors(/*restart=*/true);
   for (std::size_t i = 0; i < ps_.n_owned; ++i) {
     ps_.x[i] = ps_.v_half[i];
