@@ -45,7 +45,7 @@ add_test(NAME plate_fibers_short_run
          COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${SPHDEM_MPIEXEC_FLAGS}
                  $<TARGET_FILE:sphdem> run ${PROJECT_SOURCE_DIR}/inputs/plate_fibers_short.yaml -q
                  --overwrite -o ${CMAKE_CURRENT_BINARY_DIR}/plate_fibers_short_out)
-set_tests_properties(plate_fibers_short_run PROPERTIES LABELS "case;coupling" TIMEOUT 900
+set_tests_properties(plate_fibers_short_run PROPERTIES LABELS "case;coupling" TIMEOUT 900 PROCESSORS 2
                                                        FIXTURES_SETUP plate_fibers_short)
 add_test(NAME plate_fibers_short_check
          COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_plate_fibers.py

@@ -97,14 +97,16 @@ def main():
                                               "max tau", "broken", "intact"))
     print("%-10s %12s %8s %8s %12s %8s %8s" % ("", "[MPa]", "", "", "[MPa]", "", ""))
     for t, st in rows:
-        print("%-10.5g %12.4f %8d %8d %12.4f %8d %8d%s"
+        print("%-10.5g %12.4g %8d %8d %12.4g %8d %8d%s"
               % (t, st["max_tensile"] / MPA, st["bond"], st["fiber"], st["max_shear"] / MPA,
                  st["broken"], st["intact"], "  BROKEN BONDS" if st["broken"] else ""))
     peak_t, peak = max(rows, key=lambda r: np.nan_to_num(r[1]["max_tensile"], nan=-np.inf))
-    print("maximum tensile stress %.4f MPa at t = %.5g s (fiber %d): %.1f %% of the strength %.0f MPa"
+    frac = 100 * peak["max_tensile"] / strength
+    # Small fractions (real runs: kPa against GPa) keep two significant digits.
+    frac_s = "%.1f" % frac if not np.isfinite(frac) or abs(frac) >= 0.1 else "%.2g" % frac
+    print("maximum tensile stress %.4f MPa at t = %.5g s (fiber %d): %s %% of the strength %.0f MPa"
           " (paper: 936.51 MPa at 0.2 s, strength 2000 MPa)"
-          % (peak["max_tensile"] / MPA, peak_t, peak["fiber"], 100 * peak["max_tensile"] / strength,
-             strength / MPA))
+          % (peak["max_tensile"] / MPA, peak_t, peak["fiber"], frac_s, strength / MPA))
     broken = rows[-1][1]["broken"]
     print("broken bonds at t = %.5g s: %d%s" % (rows[-1][0], broken, "" if broken else " (none, as in the paper)"))
     if a.csv:
@@ -149,7 +151,11 @@ def main():
         ax2.plot(t[b > 0], m[b > 0], "rx", ms=8, label="snapshots with broken bonds")
     ax2.set_xlabel("t [s]")
     ax2.set_ylabel("stress [MPa]")
-    ax2.set_yscale("symlog", linthresh=1.0)
+    # Linear below linthresh: one decade under the median positive maximum,
+    # so stresses of kPa (real runs) stay visible beside the GPa strength.
+    pos = m[np.isfinite(m) & (m > 0)]
+    linthresh = min(1.0, 10.0 ** np.floor(np.log10(np.median(pos))) / 10) if pos.size else 1.0
+    ax2.set_yscale("symlog", linthresh=linthresh)
     ax2.legend(fontsize=8)
     ax2.grid(alpha=0.3)
     fig.savefig(a.output, dpi=120, bbox_inches="tight")

@@ -71,9 +71,10 @@ def main():
         raise io.ToolError("no snapshot with fibers (a /dem set) among the selected ones")
     names = [r.name for r in regions]
     print("regions (mm): " + "; ".join("%s = %s" % (r.name, r.describe()) for r in regions))
-    print("%-10s" % "t [s]" + "".join("%10s" % n for n in names) + "%10s" % "total")
+    widths = [max(10, len(n) + 2) for n in names]   # long region names keep a gap
+    print("%-10s" % "t [s]" + "".join("%*s" % (w, n) for w, n in zip(widths, names)) + "%10s" % "total")
     for row in rows:
-        print("%-10.5g" % row[0] + "".join("%10d" % v for v in row[1:]))
+        print("%-10.5g" % row[0] + "".join("%*d" % (w, v) for w, v in zip(widths + [10], row[1:])))
     if len(regions) >= 2:
         last = rows[-1]
         print("last snapshot t = %.5g s: %s" % (last[0], ", ".join("%s %d" % (n, v) for n, v in zip(names, last[1:]))))

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "../dem/cell_list.hpp"
 #include "terms/continuity_void.hpp"
@@ -29,12 +30,33 @@ template <int D, class GidOf>
 void near_sorted(const dem_detail::CellList<D>& cells, const std::vector<Vec<D>>& x,
                  const Vec<D>& p, double support, GidOf gid_of, std::vector<Near>& out) {
   out.clear();
+  const double support2 = support * support;
   cells.for_each_near(p, [&](std::int32_t j) {
-    const double r = (p - x[static_cast<std::size_t>(j)]).norm();
-    if (r < support) out.push_back({gid_of(j), j, r});
+    const double r2 = (p - x[static_cast<std::size_t>(j)]).squaredNorm();
+    if (r2 < support2) out.push_back({gid_of(j), j, std::sqrt(r2)});
   });
   std::sort(out.begin(), out.end());
 }
+
+// Whether x lies within `margin` of the bounding box of the DEM particles:
+// resin farther away has no DEM neighbour, and is left out of the searches.
+template <int D>
+struct Reach {
+  Vec<D> lo, hi;
+  Reach(const DemParticles<D>& dem, double margin) {
+    lo = Vec<D>::Constant(std::numeric_limits<double>::infinity());
+    hi = -lo;
+    for (std::size_t f = 0; f < dem.size(); ++f) {
+      lo = lo.cwiseMin(dem.x[f]);
+      hi = hi.cwiseMax(dem.x[f]);
+    }
+    lo.array() -= margin;
+    hi.array() += margin;
+  }
+  bool contains(const Vec<D>& x) const {
+    return (x.array() >= lo.array()).all() && (x.array() <= hi.array()).all();
+  }
+};
 
 template <int D>
 double dem_volume(const DemParticles<D>& dem, std::size_t f) {
@@ -54,11 +76,12 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
   st.void_fraction.assign(n_dem, 1.0);
   st.resin_velocity.assign(n_dem, Vec<D>::Zero());
 
-  // Resin particles (owned and ghosts) in a cell list of their own.
+  // Resin particles (owned and ghosts) near the fibers, in a cell list.
   st.resin_index.clear();
   st.resin_x.clear();
+  const Reach<D> reach(dem, support);
   for (std::size_t r = 0; r < sph.size(); ++r) {
-    if (sph.kind[r] != Kind::Fluid) continue;
+    if (sph.kind[r] != Kind::Fluid || !reach.contains(sph.x[r])) continue;
     st.resin_index.push_back(static_cast<std::int32_t>(r));
     st.resin_x.push_back(sph.x[r]);
   }
@@ -121,11 +144,12 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
   resin_void_fraction.assign(sph.n_owned, 1.0);
   Vec<D> total = Vec<D>::Zero();
   if (dem.size() == 0) return total;
-  // Owned resin particles only: they are the ones that receive.
+  // Owned resin particles near the fibers: they are the ones that receive.
   std::vector<std::int32_t> resin;
   std::vector<Vec<D>> resin_x;
+  const Reach<D> reach(dem, support);
   for (std::size_t r = 0; r < sph.n_owned; ++r) {
-    if (sph.kind[r] != Kind::Fluid) continue;
+    if (sph.kind[r] != Kind::Fluid || !reach.contains(sph.x[r])) continue;
     resin.push_back(static_cast<std::int32_t>(r));
     resin_x.push_back(sph.x[r]);
   }
@@ -138,24 +162,30 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
     return dem.gid[static_cast<std::size_t>(a)] < dem.gid[static_cast<std::size_t>(b)];
   });
   std::vector<Vec<D>> force(resin.size(), Vec<D>::Zero());
-  std::vector<double> phi(resin.size(), 0.0), phi_rate(resin.size(), 0.0);
+  std::vector<double> phi(resin.size(), 0.0), phi_rate(resin.size(), 0.0), vol(resin.size());
   std::vector<std::uint8_t> touched(resin.size(), 0);
+  for (std::size_t k = 0; k < resin.size(); ++k) {
+    const auto r = static_cast<std::size_t>(resin[k]);
+    vol[k] = sph.mass[r] / sph.rho[r];
+  }
+  const double support2 = support * support;
   for (const std::int32_t fi : order) {
     const auto f = static_cast<std::size_t>(fi);
     const double vol_f = dem_volume(dem, f);
+    // Each neighbour r takes V_r W_fr of -F_mean / S_f (reaction.hpp).
+    const Vec<D> share = terms::reaction_per_weight<D>(shepard_sum[f], mean_drag[f]);
     cells.for_each_near(dem.x[f], [&](std::int32_t k) {
       const auto ku = static_cast<std::size_t>(k);
       const auto r = static_cast<std::size_t>(resin[ku]);
-      const double dist = (sph.x[r] - dem.x[f]).norm();
-      if (dist >= support) return;
+      const Vec<D> d = sph.x[r] - dem.x[f];
+      const double dist2 = d.squaredNorm();
+      if (dist2 >= support2) return;
+      const double dist = std::sqrt(dist2);
       const double w = kernel.w(dist);
-      if (shepard_sum[f] > 0) {
-        force[ku] +=
-            terms::reaction_force<D>(sph.mass[r] / sph.rho[r], w, shepard_sum[f], mean_drag[f]);
-      }
+      force[ku] += (vol[ku] * w) * share;
       phi[ku] += terms::solid_fraction<D>(kernel, vol_f, dist);
-      phi_rate[ku] += terms::solid_fraction_rate(vol_f, kernel.f(dist),
-                                                 (sph.v[r] - dem.v[f]).dot(sph.x[r] - dem.x[f]));
+      phi_rate[ku] +=
+          terms::solid_fraction_rate(vol_f, kernel.f(dist), (sph.v[r] - dem.v[f]).dot(d));
       touched[ku] = 1;
     });
   }

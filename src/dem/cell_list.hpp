@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "sphdem/errors.hpp"
 #include "sphdem/particles.hpp"
 
 namespace sphdem::dem_detail {
@@ -30,6 +31,10 @@ class CellList {
         hi = hi.cwiseMax(x[i]);
       }
     }
+    // A NaN or an infinity (a blown-up particle) would size the grid from
+    // garbage: stop with the solver's error instead (exit 3, state written).
+    if (!lo_.allFinite() || !hi.allFinite())
+      throw SimulationError("a particle position is not finite (the DEM or coupling blew up)");
     const double budget = 16.0 * static_cast<double>(n) + 64.0;
     cell_ = std::max(cell, 1e-300);
     for (;;) {

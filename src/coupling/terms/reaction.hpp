@@ -21,4 +21,11 @@ inline Vec<D> reaction_force(double vol_r, double w_fr, double s_f, const Vec<D>
   return -reaction_weight(vol_r, w_fr, s_f) * f_drag;
 }
 
+// The same factored for the loop over DEM particles: -F_d,f / S_f once per
+// DEM particle (zero without resin), times V_r W_fr per neighbour r.
+template <int D>
+inline Vec<D> reaction_per_weight(double s_f, const Vec<D>& f_drag) {
+  return s_f > 0.0 ? Vec<D>(-f_drag / s_f) : Vec<D>::Zero();
+}
+
 }  // namespace sphdem::terms
