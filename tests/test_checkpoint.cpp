@@ -24,6 +24,7 @@
 #include "sphdem/checkpoint.hpp"
 #include "sphdem/config.hpp"
 #include "sphdem/solver.hpp"
+#include "validation_helpers.hpp"
 
 namespace sphdem {
 namespace {
@@ -195,32 +196,13 @@ TEST(Checkpoint, RestartIsBitwiseWithThePistonController) {
   }
 }
 
-// A coupled resin + fiber case (tests/test_coupled_parallel.cpp's): the
+// A coupled resin + fiber case (inputs/validation/coupled_box.yaml): the
 // fibers are in the checkpoint (group "dem", with their drag law and the
 // coupled step) and a restart on another rank count continues the run
 // bitwise: the DEM domain takes the checkpoint's forces as current.
-constexpr const char* kCoupled = R"(name: coupled
-dimension: 2
-resin: {density: 900, viscosity: 0.1, sound_speed: 50}
-numerics: {spacing: 3.0e-4, end_time: 1.0, delta_sph: 0.1}
-mold:
-  shapes:
-    - box: {min: [0, 0], max: [0.015, 0.009]}
-fill:
-  - box: {min: [0, 0], max: [0.015, 0.006]}
-fibers:
-  count: 30
-  diameter: 2.5e-4
-  density: 2540
-  youngs_modulus: 1.0e8
-  tensile_strength: 2.0e9
-  region: {box: {min: [0.001, 0.001], max: [0.014, 0.005]}}
-body_force: [0, -2000]
-initial_velocity: [0.5, 0.2]
-)";
 
 TEST(Checkpoint, CoupledRunRestartsWithItsFibers) {
-  const Case c = load_case_from_string(kCoupled, "coupled.yaml");
+  const Case c = testing::load_input("validation/coupled_box.yaml");
   const std::string dir = work_dir("coupled");
   if (world_rank() == 0) fs::remove_all(dir);
   MPI_Barrier(MPI_COMM_WORLD);

@@ -14,50 +14,19 @@
 #include <thread>
 #include <vector>
 
+#include "mpi_test_helpers.hpp"
 #include "sphdem/comm.hpp"
 #include "sphdem/config.hpp"
 #include "sphdem/solver.hpp"
+#include "validation_helpers.hpp"
 
 namespace sphdem {
 namespace {
-
-constexpr const char* kCase = R"(dimension: 2
-resin: {density: 900, viscosity: 0.1, sound_speed: 50}
-numerics: {spacing: 3.0e-4, end_time: 1.0, delta_sph: 0.1}
-mold:
-  shapes:
-    - box: {min: [0, 0], max: [0.015, 0.009]}
-fill:
-  - box: {min: [0, 0], max: [0.015, 0.006]}
-fibers:
-  count: 30
-  diameter: 2.5e-4
-  density: 2540
-  youngs_modulus: 1.0e8
-  tensile_strength: 2.0e9
-  region: {box: {min: [0.001, 0.001], max: [0.014, 0.005]}}
-body_force: [0, -2000]
-initial_velocity: [0.5, 0.2]
-parallel: {balance_every: 20, imbalance_threshold: 0.001}
-)";
 
 struct Row {
   std::int64_t gid = 0;
   double value[6] = {};
 };
-
-std::vector<Row> gather(const Comm& comm, const std::vector<Row>& mine) {
-  const int bytes = static_cast<int>(mine.size() * sizeof(Row));
-  std::vector<int> counts(static_cast<std::size_t>(comm.size())), displs(counts.size(), 0);
-  MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm.raw());
-  std::partial_sum(counts.begin(), counts.end() - 1, displs.begin() + 1);
-  std::vector<Row> all(
-      comm.root() ? static_cast<std::size_t>(displs.back() + counts.back()) / sizeof(Row) : 0);
-  MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, 0,
-              comm.raw());
-  std::sort(all.begin(), all.end(), [](const Row& a, const Row& b) { return a.gid < b.gid; });
-  return all;
-}
 
 struct State {
   std::vector<Row> resin, fibers;
@@ -65,7 +34,10 @@ struct State {
 };
 
 State run(const Comm& comm, std::int64_t steps) {
-  const Case c = load_case_from_string(kCase, "coupled.yaml");
+  // Frequent re-partitions: the fibers must follow the resin's new map.
+  const Case c =
+      testing::load_input("validation/coupled_box.yaml",
+                          {"parallel.balance_every=20", "parallel.imbalance_threshold=0.001"});
   RunOptions opt;
   opt.write_output = false;
   Simulation<2> sim(c, comm, opt);
@@ -88,8 +60,8 @@ State run(const Comm& comm, std::int64_t steps) {
         {f.gid[i],
          {f.x[i][0], f.x[i][1], f.v[i][0], f.v[i][1], f.omega[i][0], f.bonds[i][0].sigma}});
   }
-  st.resin = gather(comm, resin);
-  st.fibers = gather(comm, fibers);
+  st.resin = testing_mpi::gather_rows(comm, resin);
+  st.fibers = testing_mpi::gather_rows(comm, fibers);
   st.ghost_fibers = comm.sum(ghosts);
   st.repartitions = sim.repartitions();
   return st;
@@ -110,12 +82,7 @@ TEST(CoupledParallel, RankIndependent) {
   const std::int64_t kSteps = std::getenv("KSTEPS") ? std::atoll(std::getenv("KSTEPS")) : 400;
   State ref;
   if (world.root()) ref = run(Comm(MPI_COMM_SELF), kSteps);
-  MPI_Request req;
-  MPI_Ibarrier(world.raw(), &req);
-  for (int done = 0; !done;) {
-    MPI_Test(&req, &done, MPI_STATUS_IGNORE);
-    if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
+  testing_mpi::wait_for_root(world);
   const State got = run(world, kSteps);
   if (!world.root()) return;
   EXPECT_EQ(mismatches(ref.resin, got.resin), 0u) << "resin differs from the 1-rank run";

@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "mpi_test_helpers.hpp"
 #include "sphdem/comm.hpp"
 #include "sphdem/decomposition.hpp"
 #include "sphdem/dem_domain.hpp"
@@ -76,16 +77,7 @@ std::vector<Row> gather(const Comm& comm, const DemParticles<D>& ps) {
     r.value[k++] = ps.bonds[i][0].broken ? 1.0 : 0.0;
     mine.push_back(r);
   }
-  const int bytes = static_cast<int>(mine.size() * sizeof(Row));
-  std::vector<int> counts(static_cast<std::size_t>(comm.size())), displs(counts.size(), 0);
-  MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm.raw());
-  std::partial_sum(counts.begin(), counts.end() - 1, displs.begin() + 1);
-  std::vector<Row> all(
-      comm.root() ? static_cast<std::size_t>(displs.back() + counts.back()) / sizeof(Row) : 0);
-  MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, 0,
-              comm.raw());
-  std::sort(all.begin(), all.end(), [](const Row& a, const Row& b) { return a.gid < b.gid; });
-  return all;
+  return testing_mpi::gather_rows(comm, mine);
 }
 
 void expect_identical(const std::vector<Row>& ref, const std::vector<Row>& got) {
@@ -158,22 +150,12 @@ RunResult<D> run_domain(const Comm& comm, int fibers, double strength, std::int6
   return r;
 }
 
-void wait_for_root(const Comm& comm) {
-  MPI_Request req;
-  MPI_Ibarrier(comm.raw(), &req);
-  int done = 0;
-  while (!done) {
-    MPI_Test(&req, &done, MPI_STATUS_IGNORE);
-    if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-}
-
 template <int D>
 void expect_rank_independent(int fibers, double strength, std::int64_t steps, bool expect_breaks) {
   const Comm world;
   RunResult<D> ref;
   if (world.root()) ref = run_domain<D>(Comm(MPI_COMM_SELF), fibers, strength, steps);
-  wait_for_root(world);
+  testing_mpi::wait_for_root(world);
   const RunResult<D> got = run_domain<D>(world, fibers, strength, steps);
   if (!world.root()) return;
   std::printf(

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "../src/parallel/decomposition.hpp"
+#include "mpi_test_helpers.hpp"
 #include "sphdem/config.hpp"
 #include "sphdem/decomposition.hpp"
 #include "sphdem/ordered_sum.hpp"
@@ -56,29 +57,11 @@ std::vector<Row> gather_fluid(const Comm& comm, const SphParticles<D>& ps) {
     r.value[2 * D] = ps.rho[i];
     mine.push_back(r);
   }
-  const int bytes = static_cast<int>(mine.size() * sizeof(Row));
-  std::vector<int> counts(static_cast<std::size_t>(comm.size())), displs(counts.size(), 0);
-  MPI_Gather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, comm.raw());
-  std::partial_sum(counts.begin(), counts.end() - 1, displs.begin() + 1);
-  std::vector<Row> all(
-      comm.root() ? static_cast<std::size_t>(displs.back() + counts.back()) / sizeof(Row) : 0);
-  MPI_Gatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), displs.data(), MPI_BYTE, 0,
-              comm.raw());
-  std::sort(all.begin(), all.end(), [](const Row& a, const Row& b) { return a.gid < b.gid; });
-  return all;
+  return testing_mpi::gather_rows(comm, mine);
 }
 
 // Ranks other than 0 wait for rank 0's serial reference without spinning:
 // ctest runs these tests with more ranks than cores.
-void wait_for_root(const Comm& comm) {
-  MPI_Request req;
-  MPI_Ibarrier(comm.raw(), &req);
-  int done = 0;
-  while (!done) {
-    MPI_Test(&req, &done, MPI_STATUS_IGNORE);
-    if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-}
 
 RunOptions quiet() {
   RunOptions opt;
@@ -96,7 +79,7 @@ std::vector<Row> reference(const Comm& world, const Case& c, std::int64_t steps)
     sim.advance(steps);
     rows = gather_fluid<D>(self, sim.particles());
   }
-  wait_for_root(world);
+  testing_mpi::wait_for_root(world);
   return rows;
 }
 
@@ -333,7 +316,7 @@ TEST(Snapshots, DatasetsEqualThoseOfOneRank) {
     sim.advance(300);
     one_file = sim.write_snapshot();
   }
-  wait_for_root(world);
+  testing_mpi::wait_for_root(world);
   opt.output_dir = base + "/n_ranks";
   Simulation<2> sim(c, world, opt);
   sim.advance(300);

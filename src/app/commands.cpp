@@ -116,9 +116,10 @@ int run_case(const Case& c, const RunArgs& a, const Comm& comm) {
         "sphdem {}: case '{}' ({}D), {} resin + {} wall particles, {} rank(s)\n", SPHDEM_VERSION,
         c.name, D, sim.global_fluid_count(), sim.global_wall_count(), comm.size());
     if (sim.dem()) {
-      std::cout << fmt::format("  fibers: {} ({} DEM particles, fraction {:.2f} %), DEM step {:.3g} s\n",
-                               sim.placement().fibers, sim.dem()->global_count(),
-                               100 * sim.placement().fraction, sim.dem_dt());
+      std::cout << fmt::format(
+          "  fibers: {} ({} DEM particles, fraction {:.2f} %), DEM step {:.3g} s\n",
+          sim.placement().fibers, sim.dem()->global_count(), 100 * sim.placement().fraction,
+          sim.dem_dt());
     }
   }
   const RunSummary s = sim.run();
