@@ -35,6 +35,12 @@ class CellList {
     // garbage: stop with the solver's error instead (exit 3, state written).
     if (!lo_.allFinite() || !hi.allFinite())
       throw SimulationError("a particle position is not finite (the DEM or coupling blew up)");
+    // A particle flung astronomically far (a blow-up that stayed finite)
+    // would overflow the cell counts below.
+    for (int d = 0; d < D; ++d) {
+      if ((hi[d] - lo_[d]) / std::max(cell, 1e-300) > 1e12)
+        throw SimulationError("a DEM particle is far outside the domain (the DEM blew up)");
+    }
     const double budget = 16.0 * static_cast<double>(n) + 64.0;
     cell_ = std::max(cell, 1e-300);
     for (;;) {

@@ -177,15 +177,16 @@ void evaluate_pair(const DemParams<D>& p, double dt, DemParticles<D>& ps, DemPai
 // reach at the last build, in increasing index), history in its wall slots.
 template <int D>
 void wall_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
-                 DemParticles<D>& ps, std::size_t i, const std::int32_t* cand, std::int32_t n_cand) {
+                 DemParticles<D>& ps, std::size_t i, const std::int32_t* cand,
+                 std::int32_t n_cand) {
   // Fast path, most particles: no wall within reach and no history to drop.
   bool busy = false;
   for (const auto& c : ps.wall_contacts[i]) busy = busy || c.partner != DemContact<D>::kNone;
   for (std::int32_t k = 0; k < n_cand && !busy; ++k) {
     Vec<D> nv;
     double delta;
-    busy = wall_contact<D>(walls[static_cast<std::size_t>(cand[k])], ps.x[i], ps.radius[i], nv,
-                           delta);
+    busy =
+        wall_contact<D>(walls[static_cast<std::size_t>(cand[k])], ps.x[i], ps.radius[i], nv, delta);
   }
   if (!busy) return;
   const WallContactSlots<D> old = ps.wall_contacts[i];
@@ -532,11 +533,11 @@ double dem_elastic_energy(const DemParams<D>& p, const std::vector<DemWall<D>>& 
                                       DemParticles<D>&, DemWorkspace<D>&);                         \
   template void dem_step<D>(const DemParams<D>&, double, std::vector<DemWall<D>>&,                 \
                             DemParticles<D>&, DemWorkspace<D>&);                                   \
-  template void dem_build_pairs<D>(const DemParams<D>&, const std::vector<DemWall<D>>&,             \
-                                   DemParticles<D>&, DemWorkspace<D>&);       \
+  template void dem_build_pairs<D>(const DemParams<D>&, const std::vector<DemWall<D>>&,            \
+                                   DemParticles<D>&, DemWorkspace<D>&);                            \
   template void dem_store_pair_state<D>(DemParticles<D>&, const DemWorkspace<D>&);                 \
   template double dem_max_displacement2<D>(const DemParticles<D>&, const std::vector<DemWall<D>>&, \
-                                           const DemWorkspace<D>&);        \
+                                           const DemWorkspace<D>&);                                \
   template void dem_kick_drift<D>(double, std::vector<DemWall<D>>&, DemParticles<D>&);             \
   template void dem_force_kick<D>(const DemParams<D>&, double, const std::vector<DemWall<D>>&,     \
                                   DemParticles<D>&, DemWorkspace<D>&);                             \
