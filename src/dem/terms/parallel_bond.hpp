@@ -11,7 +11,8 @@
 //   dM_t = -kbar_s J (dtheta . n)        (3D)
 //   dM_b = -kbar_n I dtheta_s            (2D: the scalar dtheta)
 // The accumulated F_s (and M_b in 3D) are first turned with the contact
-// plane; in 3D F_s and M_b also turn with the pair's mean spin about n.
+// plane; in 3D F_s and M_b also turn with the pair's mean spin about n
+// (an exact, length-preserving rotation).
 // Stresses on the periphery and failure (P&C's signed variant: compression
 // never breaks a bond, unlike LIGGGHTS's |F_n|):
 //   sigma = -F_n/A + |M_b| Rbar/I,  tau = |F_s|/A (+ |M_t| Rbar/J in 3D)
@@ -53,12 +54,15 @@ inline bool parallel_bond_update(const BondLaw& law, double rbar, const Vec<D>& 
                                  double dt, DemBond<D>& b) {
   rotate_into_plane<D>(b.fs, n);
   if constexpr (D == 3) {
-    b.fs += mean_spin_n * dt * n.cross(b.fs);
-    b.mb += mean_spin_n * dt * n.cross(b.mb);
-    const double len = b.mb.norm();
-    b.mb -= b.mb.dot(n) * n;
-    const double len_new = b.mb.norm();
-    if (len_new > 0.0) b.mb *= len / len_new;
+    // Turn F_s and M_b with the pair's mean spin about n by the exact
+    // rotation of angle theta = spin dt. (The first-order update
+    // v += theta n x v lengthens v by sqrt(1 + theta^2) each step: a fiber
+    // spinning about its axis then pumps energy into its own bonds until
+    // it blows up, which the 4800-fiber benchmark did after ~15k steps.)
+    rotate_into_plane<D>(b.mb, n);
+    const double theta = mean_spin_n * dt, c = std::cos(theta), sn = std::sin(theta);
+    b.fs = c * b.fs + sn * n.cross(b.fs);
+    b.mb = c * b.mb + sn * n.cross(b.mb);
   }
   const double vn = v_rel.dot(n);
   const Vec<D> vs = v_rel - vn * n;
