@@ -16,6 +16,7 @@
 #include <ostream>
 
 #include "dem_checkpoint.hpp"
+#include "run_checkpoint.hpp"
 #include "sphdem/checkpoint.hpp"
 #include "sphdem/io.hpp"
 #include "sphdem/solver.hpp"
@@ -38,16 +39,8 @@ std::string Simulation<D>::write_checkpoint() {
   const std::string path = checkpoint_path(opt_.output_dir, case_.name, step_);
   {
     CheckpointWriter w(comm_, path);
-    w.attribute("case", case_.name);
-    w.attribute("identity", case_identity_text(case_));
-    w.attribute("case_text", case_.source_text);
-    w.attribute("ranks", static_cast<std::int64_t>(comm_.size()));
-    w.attribute("step", step_);
-    w.attribute("time", time_);
-    w.attribute("dt", dt_.dt);
+    write_run_attributes(w, comm_, case_, {step_, time_, dt_.dt, snapshots_, last_snapshot_step_});
     w.attribute("dt_limit", static_cast<std::int64_t>(dt_.limit));
-    w.attribute("snapshots", snapshots_);
-    w.attribute("last_snapshot_step", last_snapshot_step_);
     w.attribute("last_balance_step", last_balance_step_);
     w.attribute("repartitions", repartitions_);
     std::vector<double> scale, face;
@@ -80,21 +73,15 @@ std::string Simulation<D>::write_checkpoint() {
   }
   last_checkpoint_step_ = step_;
   last_checkpoint_ = path;
-  prune_checkpoints(comm_, opt_.output_dir, case_.name, case_.checkpoint.keep);
-  if (opt_.log && comm_.root())
-    *opt_.log << fmt::format("step {}: checkpoint {}\n", step_, path) << std::flush;
+  checkpoint_published(comm_, opt_, case_, step_, path);
   return path;
 }
 
 template <int D>
 std::string Simulation<D>::restart_from(const std::string& checkpoint) {
-  const std::string path =
-      restart_from_checkpoint(checkpoint, opt_.output_dir, case_.name, comm_, opt_.log,
-                              [this](const std::string& p) { load_checkpoint(p); });
-  if (opt_.log && comm_.root())
-    *opt_.log << fmt::format("restarting from {} (step {}, t = {:.6g} s)\n", path, step_, time_)
-              << std::flush;
-  return path;
+  return restart_logged(
+      checkpoint, opt_, case_, comm_, [this](const std::string& p) { load_checkpoint(p); }, step_,
+      time_);
 }
 
 // Reads everything first, then commits: a refused checkpoint leaves the
