@@ -75,6 +75,18 @@ TEST(DemBond, Sections) {
   EXPECT_DOUBLE_EQ(s3.polar, 2 * s3.inertia);
 }
 
+// The motion of a pair whose normal n stays put: relative contact-point
+// displacement du and relative rotation dtheta over the step.
+template <int D>
+terms::BondMotion<D> still_motion(const Vec<D>& n, const Vec<D>& du, const Rot<D>& dtheta) {
+  terms::BondMotion<D> m;
+  m.n1 = m.nm = n;
+  m.dlen = du.dot(n);
+  m.du = du;
+  m.dtheta = dtheta;
+  return m;
+}
+
 // One increment each of stretch, shear, bending and twisting against the
 // incremental law of ANALYTIC.md 6, and breakage at the strengths.
 TEST(DemBond, IncrementsStressesAndBreakage) {
@@ -84,8 +96,8 @@ TEST(DemBond, IncrementsStressesAndBreakage) {
   DemBond<3> b;
   b.partner = 1;
   // Stretch at 0.1 and shear at 0.2 (y): dF_n = -kn A 1e-3, dF_s = -ks A 2e-3.
-  ASSERT_TRUE(terms::parallel_bond_update<3>(law, rbar, n, Vec<3>(0.1, 0.2, 0), Rot<3>::Zero(), 0.0,
-                                             dt, b));
+  ASSERT_TRUE(terms::parallel_bond_update<3>(
+      law, rbar, still_motion<3>(n, (Vec<3>(0.1, 0.2, 0)) * dt, Rot<3>::Zero()), b));
   const double A = law.s.area;
   EXPECT_NEAR(b.fn, -1e3 * A * 1e-3, 1e-15);
   EXPECT_NEAR(b.fs[1], -4e3 * A * 2e-3, 1e-15);
@@ -93,8 +105,8 @@ TEST(DemBond, IncrementsStressesAndBreakage) {
   EXPECT_NEAR(b.tau, 4e3 * 2e-3, 1e-12);    // |F_s|/A
   // Bend about z by 0.01 and twist about n by 0.02.
   DemBond<3> m;
-  ASSERT_TRUE(terms::parallel_bond_update<3>(law, rbar, n, Vec<3>::Zero(), Rot<3>(0.02, 0, 0.01),
-                                             0.0, dt, m));
+  ASSERT_TRUE(terms::parallel_bond_update<3>(
+      law, rbar, still_motion<3>(n, (Vec<3>::Zero()) * dt, Rot<3>(0.02, 0, 0.01)), m));
   EXPECT_NEAR(m.mb[2], -1e3 * law.s.inertia * 0.01, 1e-15);
   EXPECT_NEAR(m.mt, -4e3 * law.s.polar * 0.02, 1e-15);
   EXPECT_NEAR(m.sigma, 1e3 * 0.01 * rbar, 1e-12);  // |M_b| Rbar / I
@@ -102,16 +114,70 @@ TEST(DemBond, IncrementsStressesAndBreakage) {
   // Compression never breaks (P&C's signed criterion); tension does.
   law.sigma_c = 5.0;
   DemBond<3> c;
-  EXPECT_TRUE(
-      terms::parallel_bond_update<3>(law, rbar, n, Vec<3>(-10, 0, 0), Rot<3>::Zero(), 0.0, dt, c));
+  EXPECT_TRUE(terms::parallel_bond_update<3>(
+      law, rbar, still_motion<3>(n, (Vec<3>(-10, 0, 0)) * dt, Rot<3>::Zero()), c));
   DemBond<3> t;
-  EXPECT_TRUE(terms::parallel_bond_update<3>(law, rbar, n, Vec<3>(0.4, 0, 0), Rot<3>::Zero(), 0.0,
-                                             dt, t));  // sigma = 4
-  EXPECT_FALSE(terms::parallel_bond_update<3>(law, rbar, n, Vec<3>(0.2, 0, 0), Rot<3>::Zero(), 0.0,
-                                              dt, t));  // sigma = 6
+  EXPECT_TRUE(terms::parallel_bond_update<3>(
+      law, rbar, still_motion<3>(n, (Vec<3>(0.4, 0, 0)) * dt, Rot<3>::Zero()), t));  // sigma = 4
+  EXPECT_FALSE(terms::parallel_bond_update<3>(
+      law, rbar, still_motion<3>(n, (Vec<3>(0.2, 0, 0)) * dt, Rot<3>::Zero()), t));  // sigma = 6
   EXPECT_TRUE(t.broken);
   EXPECT_EQ(t.fn, 0.0);
   EXPECT_NEAR(t.sigma, 6.0, 1e-12);  // the stress that broke it is kept
+}
+
+// A loaded bond carried by a rigid motion of its pair over one step (a
+// turn by 0.3 rad, then a spin about the bond by 0.3 rad) keeps F_n and
+// M_t, and its F_s and M_b turn with the pair: exactly for the frame, up
+// to the O(angle^3) of the mid-step increments (a chord against its arc:
+// ks A L (theta - 2 sin(theta/2))) and of the Cayley spin (|v| phi^3/48).
+TEST(DemBond, RigidMotionTurnsTheLoads) {
+  const double rbar = 0.5, L = 1.0, theta = 0.3;
+  terms::BondLaw law{terms::bond_section<3>(rbar, 1.0), 1e3, 4e3, 1e9, 1e9};
+  const Vec<3> n0 = Vec<3>(1, 2, 2) / 3.0;
+  const Vec<3> axis_perp = n0.cross(Vec<3>(0, 0, 1)).normalized();
+  auto loaded = [&] {
+    DemBond<3> b;
+    b.partner = 1;
+    b.fn = 0.7;
+    b.fs = 0.3 * n0.cross(Vec<3>(1, 0, 0)).normalized();
+    b.mb = 0.2 * axis_perp;
+    b.mt = -0.1;
+    return b;
+  };
+  // Turn about an axis normal to the bond (both particles spin with it).
+  {
+    DemBond<3> b = loaded();
+    const DemBond<3> b0 = b;
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(theta, axis_perp).toRotationMatrix();
+    const Vec<3> d = R * (L * n0);
+    const Rot<3> w_dt = theta * axis_perp;
+    const auto m = terms::bond_motion<3>(d, L, d - L * n0, w_dt, w_dt, 0.5 * L, 0.5 * L);
+    EXPECT_NEAR(m.dlen, 0.0, 1e-15);
+    ASSERT_TRUE(terms::parallel_bond_update<3>(law, rbar, m, b));
+    EXPECT_NEAR(b.fn, b0.fn, 1e-15);
+    EXPECT_NEAR(b.mt, b0.mt, 1e-15);
+    const double chord = law.ks * law.s.area * L * (theta - 2 * std::sin(theta / 2));
+    EXPECT_LT((b.fs - R * b0.fs).norm(), 1.01 * chord);
+    EXPECT_GT((b.fs - R * b0.fs).norm(), 0.99 * chord);  // the bound is the error, not slack
+    EXPECT_LT((b.mb - R * b0.mb).norm(), 1e-14);
+  }
+  // Spin about the bond itself: the normal stays, F_s and M_b spin.
+  {
+    DemBond<3> b = loaded();
+    const DemBond<3> b0 = b;
+    const Eigen::Matrix3d R = Eigen::AngleAxisd(theta, n0).toRotationMatrix();
+    const Rot<3> w_dt = theta * n0;
+    const auto m = terms::bond_motion<3>(L * n0, L, Vec<3>::Zero(), w_dt, w_dt, 0.5 * L, 0.5 * L);
+    ASSERT_TRUE(terms::parallel_bond_update<3>(law, rbar, m, b));
+    EXPECT_NEAR(b.fn, b0.fn, 1e-15);
+    EXPECT_NEAR(b.mt, b0.mt, 1e-15);
+    EXPECT_NEAR(b.fs.norm(), b0.fs.norm(), 1e-14);  // a few ulps over the four turns
+    EXPECT_NEAR(b.mb.norm(), b0.mb.norm(), 1e-14);
+    const double cayley = std::pow(theta, 3) / 48;
+    EXPECT_LT((b.fs - R * b0.fs).norm(), 1.05 * cayley * b0.fs.norm());
+    EXPECT_LT((b.mb - R * b0.mb).norm(), 1.05 * cayley * b0.mb.norm());
+  }
 }
 
 // 2D: the bending moment is the scalar -kn I dtheta; no twisting.
@@ -121,7 +187,8 @@ TEST(DemBond, TwoDBending) {
   DemBond<2> b;
   Rot<2> dth;
   dth[0] = 0.01;
-  terms::parallel_bond_update<2>(law, rbar, Vec<2>(0, 1), Vec<2>::Zero(), dth, 0.0, 1e-3, b);
+  terms::parallel_bond_update<2>(law, rbar,
+                                 still_motion<2>(Vec<2>(0, 1), (Vec<2>::Zero()) * 1e-3, dth), b);
   EXPECT_NEAR(b.mb[0], -1e3 * law.s.inertia * 0.01, 1e-15);
   EXPECT_NEAR(b.sigma, 1e3 * 0.01 * rbar, 1e-12);
 }

@@ -151,21 +151,20 @@ void evaluate_pair(const DemParams<D>& p, double dt, DemParticles<D>& ps, DemPai
   const Vec<D> nv = d / dist;
   const double delta = ri + rj - dist;
   const Vec<D> arm_i = (ri - 0.5 * delta) * nv, arm_j = -(rj - 0.5 * delta) * nv;
-  const Vec<D> v_rel =
-      ps.v[j] + cross<D>(ps.omega[j], arm_j) - ps.v[i] - cross<D>(ps.omega[i], arm_i);
   Rot<D> couple = Rot<D>::Zero();
   if (bond) {
-    const Rot<D> dtheta = (ps.omega[j] - ps.omega[i]) * dt;
-    double spin_n = 0;
-    if constexpr (D == 3) spin_n = 0.5 * (ps.omega[i] + ps.omega[j]).dot(nv);
+    const terms::BondMotion<D> motion =
+        terms::bond_motion<D>(d, dist, (ps.v[j] - ps.v[i]) * dt, ps.omega[i] * dt, ps.omega[j] * dt,
+                              ri - 0.5 * delta, rj - 0.5 * delta);
     const terms::BondLaw law = bond_law(p, ri, rj, bond->rbar);
-    if (!terms::parallel_bond_update<D>(law, bond->rbar, nv, v_rel, dtheta, spin_n, dt, *bond))
-      return;
+    if (!terms::parallel_bond_update<D>(law, bond->rbar, motion, *bond)) return;
     pr.f = bond->fn * nv + bond->fs;
     couple = bond->mb;
     if constexpr (D == 3) couple += bond->mt * nv;
   } else {
     const terms::LinearContact law{p.kn, p.kt_over_kn * p.kn, pr.cn, pr.ct, p.friction};
+    const Vec<D> v_rel =
+        ps.v[j] + cross<D>(ps.omega[j], arm_j) - ps.v[i] - cross<D>(ps.omega[i], arm_i);
     pr.f = terms::linear_contact<D>(law, nv, delta, v_rel, dt, pr.xi);
   }
   pr.tb = moment<D>(arm_j, pr.f) + couple;
