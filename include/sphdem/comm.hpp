@@ -4,6 +4,7 @@
 #include <mpi.h>
 
 #include <cstdint>
+#include <span>
 
 namespace sphdem {
 
@@ -19,6 +20,7 @@ class Comm {
   double min(double v) const;
   double sum(double v) const;
   std::int64_t sum(std::int64_t v) const;
+  void sum(std::span<double> v) const;  // element-wise, in place: one allreduce
   std::int64_t max(std::int64_t v) const;
   std::int64_t min(std::int64_t v) const;
   bool any(bool v) const;

@@ -25,6 +25,9 @@ double Comm::min(double v) const {
 double Comm::sum(double v) const {
   return reduce(comm_, v, MPI_DOUBLE, MPI_SUM);
 }
+void Comm::sum(std::span<double> v) const {
+  MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, comm_);
+}
 std::int64_t Comm::sum(std::int64_t v) const {
   return reduce(comm_, v, MPI_INT64_T, MPI_SUM);
 }

@@ -94,7 +94,7 @@ void Simulation<D>::couple() {
     sums[2 * D] += cstate_.mean_drag[f].norm();
   }
   for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(D + k)] = reaction[k];
-  for (double& x : sums) x = comm_.sum(x);
+  comm_.sum(sums);
   double residual = 0;
   for (int k = 0; k < D; ++k)
     residual +=
