@@ -2,3 +2,8 @@
 # Shepard filter, reaction and continuity terms against hand computations,
 # and the reference solutions (terminal velocity, relaxation time).
 sphdem_test(test_coupling SOURCES test_coupling.cpp RANKS 1 LABELS "unit;coupling")
+
+# The coupling in 3D (inputs/validation/coupled_box_3d.yaml): 2 ranks
+# bitwise equal to one, fibers touching the mold's rectangle walls.
+sphdem_test(test_coupled_3d SOURCES test_coupled_3d.cpp RANKS 1 2 LABELS "mpi;coupling"
+            TIMEOUT 300)

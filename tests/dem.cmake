@@ -53,3 +53,36 @@ add_test(NAME plate_fibers_short_check
                  --min-drift 1e-3)
 set_tests_properties(plate_fibers_short_check PROPERTIES LABELS "case;coupling" TIMEOUT 120
                                                          FIXTURES_REQUIRED plate_fibers_short)
+
+# 3D walls (docs/dem.md, "Walls"): a sphere against a rectangle, the walls'
+# checkpoint state, a 3D mold of boxes as rectangles.
+sphdem_test(test_dem_walls_3d SOURCES test_dem_walls_3d.cpp RANKS 1 LABELS "unit;dem")
+
+# The 3D DEM-only case end to end (inputs/fibers_only_3d.yaml, 86k steps):
+# on 1 and 2 ranks; every fiber stays in the mold of boxes and below the
+# piston, and the two runs are bitwise the same (tests/check_fibers_only_3d.py).
+add_test(NAME fibers_only_3d_run_np1
+         COMMAND $<TARGET_FILE:sphdem> run ${PROJECT_SOURCE_DIR}/inputs/fibers_only_3d.yaml -q
+                 -o ${CMAKE_CURRENT_BINARY_DIR}/fibers_only_3d_np1 --overwrite)
+add_test(NAME fibers_only_3d_run_np2
+         COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} 2 ${SPHDEM_MPIEXEC_FLAGS}
+                 $<TARGET_FILE:sphdem> run ${PROJECT_SOURCE_DIR}/inputs/fibers_only_3d.yaml -q
+                 -o ${CMAKE_CURRENT_BINARY_DIR}/fibers_only_3d_np2 --overwrite)
+set_tests_properties(fibers_only_3d_run_np1 PROPERTIES LABELS "dem;cli;np1" TIMEOUT 120
+                                                       FIXTURES_SETUP fibers_only_3d_output)
+set_tests_properties(fibers_only_3d_run_np2 PROPERTIES LABELS "dem;cli;mpi;np2" TIMEOUT 180
+                                                       PROCESSORS 2
+                                                       FIXTURES_SETUP fibers_only_3d_output)
+add_test(NAME fibers_only_3d_check
+         COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_fibers_only_3d.py
+                 ${CMAKE_CURRENT_BINARY_DIR}/fibers_only_3d_np1
+                 --compare ${CMAKE_CURRENT_BINARY_DIR}/fibers_only_3d_np2)
+set_tests_properties(fibers_only_3d_check PROPERTIES LABELS "dem;cli;io" TIMEOUT 60
+                                                     FIXTURES_REQUIRED fibers_only_3d_output)
+if(SPHDEM_PVPYTHON)
+  add_test(NAME fibers_only_3d_paraview
+           COMMAND ${SPHDEM_PVPYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_fibers_paraview.py
+                   ${CMAKE_CURRENT_BINARY_DIR}/fibers_only_3d_np1/fibers_only_3d.xdmf 160 120)
+  set_tests_properties(fibers_only_3d_paraview PROPERTIES LABELS "dem;cli;io;paraview" TIMEOUT 120
+                                                          FIXTURES_REQUIRED fibers_only_3d_output)
+endif()

@@ -41,20 +41,35 @@ template <int D>
 double contact_stiffness_from_bond(const DemParams<D>& p, double r, double fraction = 0.01);
 
 // A rigid wall: a plane (one-sided, particles on the side of `normal`;
-// particles more than a radius behind it are not seen) or a segment [a, b]
-// (two-sided: a line segment in 2D, a thin rod in 3D). It translates at
-// `velocity` (a piston).
+// particles more than a radius behind it are not seen), a segment [a, b]
+// (two-sided: a line segment in 2D, a thin rod in 3D), or, in 3D, a
+// rectangle: the corner `point`, two orthogonal edges `u` and `v`, the unit
+// `normal` into the domain. A rectangle is the face of a solid behind it:
+// within its footprint it pushes along `normal` (one-sided, as the plane);
+// beyond an edge, and only in front of its plane, it pushes from the closest
+// point of the edge or corner, for the edges flagged in `edges` (bit 0: the
+// edge at point, along v; bit 1: the one at point + u; bit 2: at point,
+// along u; bit 3: at point + v). An unflagged edge ends the rectangle's
+// reach there: a coplanar neighbour (a seam), or an edge that another wall
+// owns (docs/dem.md, "Walls"). Every wall translates at `velocity` (a
+// piston).
 template <int D>
 struct DemWall {
-  enum class Type { Plane, Segment };
+  enum class Type { Plane, Segment, Rect };
+  static constexpr int kAllEdges = 0xF;
   Type type = Type::Plane;
-  Vec<D> point = Vec<D>::Zero();   // Plane: a point on it; Segment: end a
-  Vec<D> normal = Vec<D>::Zero();  // Plane: unit normal into the domain
-  Vec<D> end = Vec<D>::Zero();     // Segment: end b
+  Vec<D> point = Vec<D>::Zero();   // Plane: a point on it; Segment: end a; Rect: a corner
+  Vec<D> normal = Vec<D>::Zero();  // Plane, Rect: unit normal into the domain
+  Vec<D> end = Vec<D>::Zero();     // Segment: end b; Rect: the opposite corner point + u + v
+  Vec<D> u = Vec<D>::Zero(), v = Vec<D>::Zero();  // Rect: the edges from point
+  int edges = kAllEdges;                          // Rect: edges that push (bits above)
   Vec<D> velocity = Vec<D>::Zero();
 
   static DemWall plane(const Vec<D>& p, const Vec<D>& n, const Vec<D>& vel = Vec<D>::Zero());
   static DemWall segment(const Vec<D>& a, const Vec<D>& b, const Vec<D>& vel = Vec<D>::Zero());
+  // u and v orthogonal; the normal is +-(u x v), the sign of `inward`.
+  static DemWall rect(const Vec<D>& corner, const Vec<D>& u, const Vec<D>& v, const Vec<D>& inward,
+                      int edges = kAllEdges, const Vec<D>& vel = Vec<D>::Zero()) requires(D == 3);
 };
 
 // The 2 D inward planes of the box [lo, hi].

@@ -1,8 +1,8 @@
 #pragma once
 // A DEM-only run (a case with `fibers:` and no `fill:`, docs/dem.md): the
-// fibers of the case in the mold, whose shapes' edges are DEM wall
-// segments and whose moving walls (the piston) are moving segments, stepped
-// with velocity Verlet at the stable DEM step. 2D only for now.
+// fibers of the case in the mold, whose boundary is DEM walls (segments in
+// 2D, rectangles in 3D) and whose moving walls (the piston) are moving
+// walls, stepped with velocity Verlet at the stable DEM step.
 //
 // Ranks: the fibers are decomposed over the mold's bounding box with METIS
 // weighted by the DEM particles per cell (DemDomain); results are bitwise
@@ -22,10 +22,12 @@
 
 namespace sphdem {
 
-// The DEM walls of a case: every mold shape's edges (fixed), then the
-// edges of each moving wall's region that touch the cavity (moving). In
-// wall_owner, -1 for a fixed wall, else the moving wall's index. Throws
-// InputError in 3D.
+// The DEM walls of a case (src/solver/dem_walls.cpp): the parts of the
+// mold shapes' edges (2D segments) or faces (3D rectangles, a mold of
+// boxes) on the boundary of their union (fixed), then the edges or faces of
+// each moving wall's region that touch the cavity (moving). In wall_owner,
+// -1 for a fixed wall, else the moving wall's index. InputError naming
+// moving_walls[i].region when a moving wall touches no part of the mold.
 template <int D>
 std::vector<DemWall<D>> dem_walls_from_case(const Case& c, std::vector<int>& wall_owner);
 

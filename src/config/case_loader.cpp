@@ -325,9 +325,6 @@ void read_contents(const Map& top, Case& c) {
     // A pair and its periodic image would both be listed (dem.hpp).
     if (std::count(c.periodic.begin(), c.periodic.end(), true) > 0)
       fibers->fail("fibers with periodic axes are not supported");
-    if (fill && c.dimension == 3)
-      fibers->fail(
-          "fibers with resin run in 2D only for now (3D mold walls for fibers are missing)");
   }
 }
 

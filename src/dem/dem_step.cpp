@@ -49,6 +49,38 @@ terms::BondLaw bond_law(const DemParams<D>& p, double r1, double r2, double rbar
   return law;
 }
 
+// A rectangle (dem.hpp): within its footprint, the plane's one-sided push;
+// beyond a flagged edge and in front of the plane, the closest point of the
+// edge or corner (clamped parameters); beyond an unflagged edge, nothing.
+template <int D>
+bool rect_contact(const DemWall<D>& w, const Vec<D>& x, double r, Vec<D>& n, double& delta) {
+  const Vec<D> d = x - w.point;
+  const double h = d.dot(w.normal);
+  if (h >= r || h <= -r) return false;
+  double s = d.dot(w.u) / w.u.squaredNorm();
+  double t = d.dot(w.v) / w.v.squaredNorm();
+  if (s >= 0 && s <= 1 && t >= 0 && t <= 1) {
+    n = -w.normal;
+    delta = r - h;
+    return true;
+  }
+  if (h < 0) return false;
+  if (s < 0 || s > 1) {
+    if (!(w.edges & (s < 0 ? 1 : 2))) return false;
+    s = s < 0 ? 0.0 : 1.0;
+  }
+  if (t < 0 || t > 1) {
+    if (!(w.edges & (t < 0 ? 4 : 8))) return false;
+    t = t < 0 ? 0.0 : 1.0;
+  }
+  const Vec<D> c = w.point + s * w.u + t * w.v - x;
+  const double dist = c.norm();
+  if (dist >= r || dist == 0.0) return false;
+  n = c / dist;
+  delta = r - dist;
+  return true;
+}
+
 // Closest point of wall w to x and whether x is within reach r of it.
 template <int D>
 bool wall_contact(const DemWall<D>& w, const Vec<D>& x, double r, Vec<D>& n, double& delta) {
@@ -59,6 +91,7 @@ bool wall_contact(const DemWall<D>& w, const Vec<D>& x, double r, Vec<D>& n, dou
     delta = r - dist;
     return true;
   }
+  if (w.type == DemWall<D>::Type::Rect) return rect_contact<D>(w, x, r, n, delta);
   const Vec<D> ab = w.end - w.point;
   const double t = std::clamp((x - w.point).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
   const Vec<D> d = w.point + t * ab - x;

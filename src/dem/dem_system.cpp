@@ -70,6 +70,23 @@ DemWall<D> DemWall<D>::segment(const Vec<D>& a, const Vec<D>& b, const Vec<D>& v
 }
 
 template <int D>
+DemWall<D> DemWall<D>::rect(const Vec<D>& corner, const Vec<D>& eu, const Vec<D>& ev,
+                            const Vec<D>& inward, int edge_mask,
+                            const Vec<D>& vel) requires(D == 3) {
+  DemWall w;
+  w.type = Type::Rect;
+  w.point = corner;
+  w.u = eu;
+  w.v = ev;
+  w.end = corner + eu + ev;
+  w.normal = eu.cross(ev).normalized();
+  if (w.normal.dot(inward) < 0) w.normal = -w.normal;
+  w.edges = edge_mask;
+  w.velocity = vel;
+  return w;
+}
+
+template <int D>
 std::vector<DemWall<D>> box_walls(const Vec<D>& lo, const Vec<D>& hi) {
   std::vector<DemWall<D>> w;
   for (int d = 0; d < D; ++d) {

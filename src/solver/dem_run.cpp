@@ -25,24 +25,6 @@ namespace sphdem {
 
 namespace {
 
-// Corners of a 2D shape in order (a box as a rectangle).
-std::vector<Vec<2>> outline(const Shape& s) {
-  if (s.type == Shape::Type::Box)
-    return {Vec<2>(s.lo[0], s.lo[1]), Vec<2>(s.hi[0], s.lo[1]), Vec<2>(s.hi[0], s.hi[1]),
-            Vec<2>(s.lo[0], s.hi[1])};
-  std::vector<Vec<2>> out;
-  for (const auto& v : s.vertices) out.emplace_back(v[0], v[1]);
-  return out;
-}
-
-// The mold's size, for tolerances.
-double mold_size(const Case& c) {
-  double size = 0;
-  for (const Shape& s : c.mold.shapes)
-    for (const Vec<2>& p : outline(s)) size = std::max(size, p.cwiseAbs().maxCoeff());
-  return size;
-}
-
 template <int D>
 DemParams<D> dem_params(const Case& c) {
   const FiberSettings& f = *c.fibers;
@@ -70,85 +52,14 @@ FiberSpec<D> fiber_spec(const FiberSettings& f) {
   s.lo = to_vec<D>(f.region.lo);
   s.hi = to_vec<D>(f.region.hi);
   s.angle = f.angle;
+  // 3D: the angle turns the fiber from +x in the x-y plane.
+  if constexpr (D == 3)
+    if (f.angle) s.direction = Vec<3>(std::cos(*f.angle), std::sin(*f.angle), 0.0);
   s.seed = f.seed;
   return s;
 }
 
 }  // namespace
-
-template <int D>
-std::vector<DemWall<D>> dem_walls_from_case(const Case& c, std::vector<int>& wall_owner) {
-  if constexpr (D == 3) {
-    throw InputError(c.source_file, c.fibers ? c.fibers->line : 0, "fibers",
-                     "fibers without resin run in 2D only for now (3D mold walls as DEM walls "
-                     "are part of issue 4's remaining work)");
-  } else {
-    std::vector<DemWall<2>> walls;
-    wall_owner.clear();
-    const double tol = 1e-9 * mold_size(c);
-    // Moving walls: the edges of the region that touch the mold.
-    auto add_touching = [&](const Shape& s, int owner) {
-      const std::vector<Vec<2>> p = outline(s);
-      for (std::size_t k = 0; k < p.size(); ++k) {
-        const Vec<2>& a = p[k];
-        const Vec<2>& b = p[(k + 1) % p.size()];
-        if (!union_contains<2>(c.mold.shapes, Vec<2>(0.5 * (a + b)), tol)) continue;
-        walls.push_back(DemWall<2>::segment(a, b));
-        wall_owner.push_back(owner);
-      }
-    };
-    // The mold: only the parts of its shapes' edges on the boundary of their
-    // union (where two shapes meet, as the bath and the nozzle do, fibers
-    // pass). An edge is cut at every vertex of the mold lying on it; a piece
-    // is boundary when resin is on exactly one side of its midpoint.
-    std::vector<Vec<2>> vertices;
-    for (const Shape& s : c.mold.shapes)
-      for (const Vec<2>& v : outline(s)) vertices.push_back(v);
-    auto add_boundary = [&](const Shape& s) {
-      const std::vector<Vec<2>> p = outline(s);
-      for (std::size_t k = 0; k < p.size(); ++k) {
-        const Vec<2>& a = p[k];
-        const Vec<2>& b = p[(k + 1) % p.size()];
-        const Vec<2> ab = b - a;
-        const double len = ab.norm();
-        const Vec<2> normal(-ab[1] / len, ab[0] / len);
-        std::vector<double> cuts{0.0, 1.0};
-        for (const Vec<2>& v : vertices) {
-          const double t = (v - a).dot(ab) / (len * len);
-          if (t > 0 && t < 1 && std::abs((v - a).dot(normal)) < tol) cuts.push_back(t);
-        }
-        std::sort(cuts.begin(), cuts.end());
-        const double probe = 1e3 * tol;
-        for (std::size_t m = 0; m + 1 < cuts.size(); ++m) {
-          if (cuts[m + 1] - cuts[m] < 1e-12) continue;
-          const Vec<2> mid = a + 0.5 * (cuts[m] + cuts[m + 1]) * ab;
-          const bool left = union_contains<2>(c.mold.shapes, Vec<2>(mid + probe * normal), 0.0);
-          const bool right = union_contains<2>(c.mold.shapes, Vec<2>(mid - probe * normal), 0.0);
-          if (left == right) continue;
-          const Vec<2> p0 = a + cuts[m] * ab, p1 = a + cuts[m + 1] * ab;
-          const auto same = [&](const DemWall<2>& w) {  // shapes sharing an outer edge
-            return ((w.point - p0).norm() < tol && (w.end - p1).norm() < tol) ||
-                   ((w.point - p1).norm() < tol && (w.end - p0).norm() < tol);
-          };
-          if (std::any_of(walls.begin(), walls.end(), same)) continue;
-          walls.push_back(DemWall<2>::segment(p0, p1));
-          wall_owner.push_back(-1);
-        }
-      }
-    };
-    for (const Shape& s : c.mold.shapes) add_boundary(s);
-    for (std::size_t w = 0; w < c.moving_walls.size(); ++w) {
-      const std::size_t before = walls.size();
-      add_touching(c.moving_walls[w].region, static_cast<int>(w));
-      if (walls.size() == before) {
-        throw InputError(c.source_file, c.moving_walls[w].line,
-                         fmt::format("moving_walls[{}].region", w),
-                         "no edge of the region touches the mold, so the wall cannot push fibers");
-      }
-    }
-    return walls;
-  }
-}
 
 template <int D>
 DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlacement& placement) {
@@ -341,8 +252,6 @@ RunSummary DemRun<D>::run() {
 
 template DemSystem<2> case_fibers<2>(const Case&, std::vector<int>&, FiberPlacement&);
 template DemSystem<3> case_fibers<3>(const Case&, std::vector<int>&, FiberPlacement&);
-template std::vector<DemWall<2>> dem_walls_from_case<2>(const Case&, std::vector<int>&);
-template std::vector<DemWall<3>> dem_walls_from_case<3>(const Case&, std::vector<int>&);
 template class DemRun<2>;
 template class DemRun<3>;
 
