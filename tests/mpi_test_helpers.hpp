@@ -1,11 +1,13 @@
 #pragma once
 // Shared by the rank-independence tests: gather per-particle rows to rank 0
-// in global-id order, and let the other ranks wait for rank 0's serial
-// reference without spinning (ctest runs them with more ranks than cores).
+// in global-id order, compare them bit for bit, and let the other ranks
+// wait for rank 0's serial reference without spinning (ctest runs them
+// with more ranks than cores).
 #include <mpi.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <numeric>
 #include <thread>
 #include <vector>
@@ -28,6 +30,18 @@ std::vector<Row> gather_rows(const Comm& comm, const std::vector<Row>& mine) {
               comm.raw());
   std::sort(all.begin(), all.end(), [](const Row& a, const Row& b) { return a.gid < b.gid; });
   return all;
+}
+
+// Rows of a and b (both in gid order) whose gid or values differ in any
+// bit, plus the rows one side has and the other lacks.
+template <class Row>
+std::size_t bitwise_mismatches(const std::vector<Row>& a, const std::vector<Row>& b) {
+  const std::size_t n = std::min(a.size(), b.size());
+  std::size_t bad = std::max(a.size(), b.size()) - n;
+  for (std::size_t i = 0; i < n; ++i)
+    if (a[i].gid != b[i].gid || std::memcmp(&a[i].value, &b[i].value, sizeof a[i].value) != 0)
+      ++bad;
+  return bad;
 }
 
 inline void wait_for_root(const Comm& comm) {

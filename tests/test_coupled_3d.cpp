@@ -6,7 +6,6 @@
 #include <mpi.h>
 
 #include <cstdint>
-#include <cstring>
 #include <vector>
 
 #include "mpi_test_helpers.hpp"
@@ -62,16 +61,6 @@ State run(const Comm& comm, std::int64_t steps) {
   return st;
 }
 
-std::size_t mismatches(const std::vector<Row>& a, const std::vector<Row>& b) {
-  EXPECT_EQ(a.size(), b.size());
-  std::size_t bad = 0;
-  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
-    EXPECT_EQ(a[i].gid, b[i].gid);
-    if (std::memcmp(a[i].value, b[i].value, sizeof a[i].value) != 0) ++bad;
-  }
-  return bad;
-}
-
 TEST(Coupled3D, RankIndependent) {
   const Comm world;
   constexpr std::int64_t kSteps = 200;
@@ -80,8 +69,10 @@ TEST(Coupled3D, RankIndependent) {
   testing_mpi::wait_for_root(world);
   const State got = run(world, kSteps);
   if (!world.root()) return;
-  EXPECT_EQ(mismatches(ref.resin, got.resin), 0u) << "resin differs from the 1-rank run";
-  EXPECT_EQ(mismatches(ref.fibers, got.fibers), 0u) << "fibers differ from the 1-rank run";
+  EXPECT_EQ(testing_mpi::bitwise_mismatches(ref.resin, got.resin), 0u)
+      << "resin differs from the 1-rank run";
+  EXPECT_EQ(testing_mpi::bitwise_mismatches(ref.fibers, got.fibers), 0u)
+      << "fibers differ from the 1-rank run";
   EXPECT_EQ(got.resin.size(), 2600u);
   EXPECT_EQ(got.fibers.size(), 48u);
   EXPECT_GT(got.wall_touches, 0) << "no fiber touched a wall";

@@ -8,7 +8,6 @@
 
 #include <chrono>
 #include <cstdlib>
-#include <cstring>
 #include <numeric>
 #include <string>
 #include <thread>
@@ -67,16 +66,6 @@ State run(const Comm& comm, std::int64_t steps) {
   return st;
 }
 
-std::size_t mismatches(const std::vector<Row>& a, const std::vector<Row>& b) {
-  EXPECT_EQ(a.size(), b.size());
-  std::size_t bad = 0;
-  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) {
-    EXPECT_EQ(a[i].gid, b[i].gid);
-    if (std::memcmp(a[i].value, b[i].value, sizeof a[i].value) != 0) ++bad;
-  }
-  return bad;
-}
-
 TEST(CoupledParallel, RankIndependent) {
   const Comm world;
   const std::int64_t kSteps = std::getenv("KSTEPS") ? std::atoll(std::getenv("KSTEPS")) : 400;
@@ -85,8 +74,10 @@ TEST(CoupledParallel, RankIndependent) {
   testing_mpi::wait_for_root(world);
   const State got = run(world, kSteps);
   if (!world.root()) return;
-  EXPECT_EQ(mismatches(ref.resin, got.resin), 0u) << "resin differs from the 1-rank run";
-  EXPECT_EQ(mismatches(ref.fibers, got.fibers), 0u) << "fibers differ from the 1-rank run";
+  EXPECT_EQ(testing_mpi::bitwise_mismatches(ref.resin, got.resin), 0u)
+      << "resin differs from the 1-rank run";
+  EXPECT_EQ(testing_mpi::bitwise_mismatches(ref.fibers, got.fibers), 0u)
+      << "fibers differ from the 1-rank run";
   EXPECT_EQ(got.fibers.size(), 120u);
   if (world.size() > 1) {
     EXPECT_GT(got.ghost_fibers, 0) << "no fiber near a rank border";

@@ -10,7 +10,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <numeric>
 #include <random>
 #include <thread>
@@ -82,12 +81,8 @@ std::vector<Row> gather(const Comm& comm, const DemParticles<D>& ps) {
 
 void expect_identical(const std::vector<Row>& ref, const std::vector<Row>& got) {
   ASSERT_EQ(ref.size(), got.size());
-  std::size_t mismatches = 0;
-  for (std::size_t i = 0; i < ref.size(); ++i) {
-    ASSERT_EQ(ref[i].gid, got[i].gid);
-    if (std::memcmp(ref[i].value, got[i].value, sizeof ref[i].value) != 0) ++mismatches;
-  }
-  EXPECT_EQ(mismatches, 0u) << "DEM particles differing from the 1-rank run";
+  EXPECT_EQ(testing_mpi::bitwise_mismatches(ref, got), 0u)
+      << "DEM particles differing from the 1-rank run";
 }
 
 // What happened across rank borders during a run (summed over ranks).

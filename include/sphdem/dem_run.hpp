@@ -64,6 +64,8 @@ class DemRun {
   double time() const { return time_; }
 
  private:
+  template <class Driver, class Checks>
+  friend RunSummary drive_run(Driver& d, std::int64_t particles, Checks checks);  // run_loop.hpp
   void do_step();
   void check_health() const;
   void report_progress(double elapsed, std::int64_t steps_done, bool force) const;

@@ -119,6 +119,8 @@ class Simulation {
   void init_fibers();
   void advance_fibers(double t0, double dt);
   std::vector<double> face_means(const std::vector<WallFaceSample>& face);
+  template <class Driver, class Checks>
+  friend RunSummary drive_run(Driver& d, std::int64_t particles, Checks checks);  // run_loop.hpp
   void do_step();
   void check_health() const;
   void set_wall_velocities(double t);

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "dem_snapshot.hpp"
+#include "run_loop.hpp"
 #include "sphdem/checkpoint.hpp"
 #include "sphdem/errors.hpp"
 #include "sphdem/geometry.hpp"
@@ -198,56 +199,9 @@ void DemRun<D>::report_progress(double elapsed, std::int64_t steps_done, bool fo
 
 template <int D>
 RunSummary DemRun<D>::run() {
-  const auto t0 = std::chrono::steady_clock::now();
-  const double end = case_.numerics.end_time;
-  const std::int64_t step0 = step_;
-  // A restart continues the series: its first state is already on disk.
-  if (opt_.write_output && !restarted_) write_snapshot();
-  OutputCadence cadence = resumed_output_cadence(case_.output, time_);
-  CheckpointCadence checkpoints(case_.checkpoint, opt_.checkpoint_every, opt_.stop_requested);
-  bool stopped = false;
-  try {
-    while (time_ < end * (1 - 1e-12) && (!opt_.max_steps || step_ < *opt_.max_steps)) {
-      do_step();
-      if (step_ % 100 == 0) check_health();
-      report_progress(seconds_since(t0), step_ - step0, false);
-      if (cadence.due(step_, time_) && opt_.write_output) write_snapshot();
-      const CheckpointCadence::Decision d = checkpoints.after_step(comm_, step_);
-      if (d.write && opt_.write_output) {
-        write_checkpoint();
-        checkpoints.written();
-      }
-      if (d.stop) {
-        stopped = true;
-        break;
-      }
-    }
-    check_health();
-  } catch (const SimulationError&) {
-    if (opt_.write_output) {
-      const std::string last = write_snapshot();
-      if (opt_.log && comm_.root()) *opt_.log << "last state written to " << last << "\n";
-    }
-    throw;
-  }
-  // As Simulation::run: after a stop request the state is in the checkpoint.
-  if (opt_.write_output && !stopped && last_snapshot_step_ != step_) write_snapshot();
-  if (opt_.write_output && checkpoints.enabled() && last_checkpoint_step_ != step_)
-    write_checkpoint();
-  RunSummary s;
-  s.stopped = stopped;
-  s.last_checkpoint = last_checkpoint_;
-  s.steps = step_ - step0;
-  s.time = time_;
-  s.wall_seconds = seconds_since(t0);
-  s.particle_steps_per_second = s.wall_seconds > 0
-                                    ? static_cast<double>(dem_->global_count()) *
-                                          static_cast<double>(s.steps) / s.wall_seconds
-                                    : 0;
-  const int every = case_.output.progress_every;
-  if (every <= 0 || step_ % every != 0) report_progress(s.wall_seconds, s.steps, true);
-  s.snapshots = snapshots_;
-  return s;
+  return drive_run(*this, dem_->global_count(), [this](bool final) {
+    if (final || step_ % 100 == 0) check_health();
+  });
 }
 
 template DemSystem<2> case_fibers<2>(const Case&, std::vector<int>&, FiberPlacement&);
