@@ -389,9 +389,12 @@ TEST(DemEnergy, FreeBondedChainConservesEnergy3D) {
 // 1e5 steps is measured. Two effects remain at these strains, neither
 // secular growth: velocity Verlet's O((omega dt)^2) error with omega dt up
 // to 0.2 for the spin modes, and the path dependence of an incremental
-// (hypoelastic) law at finite strain; together a few percent (printed).
-// The first-order frame update (V . n_end dt for F_n, projection into the
-// new plane) fails this by a factor 20 or blows up; 10 % separates the two.
+// (hypoelastic) law at finite strain. Measured: 5.7-6.4 % with the test
+// build, 5.9 % (2D) and 10.1 % (3D) with the sanitizer build: the
+// trajectories are chaotic, so each build's contraction of multiply-adds
+// picks other ones. The first-order frame update (V . n_end dt for F_n,
+// projection into the new plane) blows up or grows by a factor 20; 25 %
+// separates the two with room for any build.
 template <int D>
 double soft_fiber_swing(std::uint64_t seed, double spin) {
   const double r = 0.5;
@@ -433,7 +436,7 @@ void check_soft_fiber_energy() {
     for (double spin : {0.0, 0.5, 1.0}) worst = std::max(worst, soft_fiber_swing<D>(seed, spin));
   std::printf("energy D=%d soft tumbling fiber: largest |E/E0 - 1| %.2e over 1e5 steps\n", D,
               worst);
-  EXPECT_LT(worst, 0.10);
+  EXPECT_LT(worst, 0.25);
 }
 
 TEST(DemEnergy, TumblingSoftFiberConservesEnergy2D) {
