@@ -57,6 +57,9 @@ set_tests_properties(plate_fibers_short_check PROPERTIES LABELS "case;coupling" 
 # 3D walls (docs/dem.md, "Walls"): a sphere against a rectangle, the walls'
 # checkpoint state, a 3D mold of boxes as rectangles.
 sphdem_test(test_dem_walls_3d SOURCES test_dem_walls_3d.cpp RANKS 1 LABELS "unit;dem")
+# 2D walls: segment ends that push only when flagged (seams, convex corners
+# with one owner), the mold's outline as segments.
+sphdem_test(test_dem_walls_2d SOURCES test_dem_walls_2d.cpp RANKS 1 LABELS "unit;dem")
 
 # The 3D DEM-only case end to end (inputs/fibers_only_3d.yaml, 86k steps):
 # on 1 and 2 ranks; every fiber stays in the mold of boxes and below the

@@ -91,7 +91,7 @@ TEST(DemRectWall, UnflaggedEdgesDoNotPush) {
       DemWall<3>::rect(Vec<3>::Zero(), Vec<3>(1, 0, 0), Vec<3>(0, 1, 0), Vec<3>(0, 0, 1), 0xF & ~2),
       DemWall<3>::rect(Vec<3>(1, 0, 0), Vec<3>(1, 0, 0), Vec<3>(0, 1, 0), Vec<3>(0, 0, 1),
                        0xF & ~1)};
-  for (const double x : {0.97, 0.999, 1.001, 1.03}) {
+  for (const double x : {0.97, 0.999, 1.0, 1.001, 1.03}) {
     int n = 0;
     expect_vec(wall_force(seam, Vec<3>(x, 0.5, 0.06), &n), Vec<3>(0, 0, kKn * 0.04), "seam");
     EXPECT_EQ(n, 1) << "x = " << x;

@@ -42,7 +42,11 @@ double contact_stiffness_from_bond(const DemParams<D>& p, double r, double fract
 
 // A rigid wall: a plane (one-sided, particles on the side of `normal`;
 // particles more than a radius behind it are not seen), a segment [a, b]
-// (two-sided: a line segment in 2D, a thin rod in 3D), or, in 3D, a
+// (two-sided: a line segment in 2D, a thin rod in 3D; its ends push from
+// their point when flagged in `edges`, kEndA and kEndB, else the segment's
+// reach ends there, as for a rectangle's edges; a mold segment has a
+// `normal` into the mold, and its ends then push only in front of it), or,
+// in 3D, a
 // rectangle: the corner `point`, two orthogonal edges `u` and `v`, the unit
 // `normal` into the domain. A rectangle is the face of a solid behind it:
 // within its footprint it pushes along `normal` (one-sided, as the plane);
@@ -57,12 +61,13 @@ template <int D>
 struct DemWall {
   enum class Type { Plane, Segment, Rect };
   static constexpr int kAllEdges = 0xF;
+  static constexpr int kEndA = 1, kEndB = 2;  // Segment: the ends at point and at end
   Type type = Type::Plane;
   Vec<D> point = Vec<D>::Zero();   // Plane: a point on it; Segment: end a; Rect: a corner
-  Vec<D> normal = Vec<D>::Zero();  // Plane, Rect: unit normal into the domain
+  Vec<D> normal = Vec<D>::Zero();  // Plane, Rect (and mold segments): unit normal inward
   Vec<D> end = Vec<D>::Zero();     // Segment: end b; Rect: the opposite corner point + u + v
   Vec<D> u = Vec<D>::Zero(), v = Vec<D>::Zero();  // Rect: the edges from point
-  int edges = kAllEdges;                          // Rect: edges that push (bits above)
+  int edges = kAllEdges;  // Rect: edges that push (bits above); Segment: ends that push
   Vec<D> velocity = Vec<D>::Zero();
 
   static DemWall plane(const Vec<D>& p, const Vec<D>& n, const Vec<D>& vel = Vec<D>::Zero());

@@ -59,17 +59,21 @@ bool rect_contact(const DemWall<D>& w, const Vec<D>& x, double r, Vec<D>& n, dou
   if (h >= r || h <= -r) return false;
   double s = d.dot(w.u) / w.u.squaredNorm();
   double t = d.dot(w.v) / w.v.squaredNorm();
-  if (s >= 0 && s <= 1 && t >= 0 && t <= 1) {
+  // An unflagged far edge is open (s < 1), so a particle exactly on a seam
+  // meets one of the two rectangles.
+  const bool past_s = s > 1 || (s == 1 && !(w.edges & 2));
+  const bool past_t = t > 1 || (t == 1 && !(w.edges & 8));
+  if (s >= 0 && !past_s && t >= 0 && !past_t) {
     n = -w.normal;
     delta = r - h;
     return true;
   }
   if (h < 0) return false;
-  if (s < 0 || s > 1) {
+  if (s < 0 || past_s) {
     if (!(w.edges & (s < 0 ? 1 : 2))) return false;
     s = s < 0 ? 0.0 : 1.0;
   }
-  if (t < 0 || t > 1) {
+  if (t < 0 || past_t) {
     if (!(w.edges & (t < 0 ? 4 : 8))) return false;
     t = t < 0 ? 0.0 : 1.0;
   }
@@ -92,8 +96,17 @@ bool wall_contact(const DemWall<D>& w, const Vec<D>& x, double r, Vec<D>& n, dou
     return true;
   }
   if (w.type == DemWall<D>::Type::Rect) return rect_contact<D>(w, x, r, n, delta);
+  // Segment: beyond an unflagged end, nothing (a seam's neighbour, or a
+  // corner the other segment owns); that end's own point too, so a particle
+  // exactly on a seam meets one segment, not two.
   const Vec<D> ab = w.end - w.point;
-  const double t = std::clamp((x - w.point).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  double t = (x - w.point).dot(ab) / ab.squaredNorm();
+  if ((t < 0 && !(w.edges & DemWall<D>::kEndA)) || (t >= 1 && !(w.edges & DemWall<D>::kEndB)))
+    return false;
+  // A mold segment (with a normal into the mold) pushes from its ends only
+  // in front of its line, as a rectangle from its edges.
+  if ((t < 0 || t > 1) && (x - w.point).dot(w.normal) < 0) return false;
+  t = std::clamp(t, 0.0, 1.0);
   const Vec<D> d = w.point + t * ab - x;
   const double dist = d.norm();
   if (dist >= r || dist == 0.0) return false;

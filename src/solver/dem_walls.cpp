@@ -47,6 +47,41 @@ double mold_size(const Case& c) {
                    "no edge of the region touches the mold, so the wall cannot push fibers");
 }
 
+// Which ends of the mold's segments push (DemWall kEndA / kEndB), so that a
+// particle meets one wall where two segments meet, as the 3D rectangles'
+// edges do: at a seam (the next piece of the same straight boundary) no
+// end pushes, the faces cover it; at a concave corner neither, the two
+// faces hold the particle; at a convex one (the rim where a nozzle meets
+// the bath: resin just beyond the vertex between the two segments) the
+// segment listed first owns the vertex. A free end keeps pushing.
+void flag_segment_ends(const Case& c, std::vector<DemWall<2>>& walls, double tol) {
+  const double probe = 1e3 * tol;
+  auto end_of = [](const DemWall<2>& w, int e) { return e == 0 ? w.point : w.end; };
+  auto into = [&](const DemWall<2>& w, int e) {  // unit direction from end e along w
+    return Vec<2>((end_of(w, 1 - e) - end_of(w, e)).normalized());
+  };
+  std::vector<int> flags(walls.size(), DemWall<2>::kEndA | DemWall<2>::kEndB);
+  for (std::size_t i = 0; i < walls.size(); ++i) {
+    for (int e = 0; e < 2; ++e) {
+      const Vec<2> v = end_of(walls[i], e);
+      const Vec<2> ui = into(walls[i], e);
+      bool push = true;
+      for (std::size_t j = 0; j < walls.size() && push; ++j) {
+        for (int f = 0; f < 2 && j != i; ++f) {
+          if ((end_of(walls[j], f) - v).norm() >= tol) continue;
+          const Vec<2> uj = into(walls[j], f);
+          const bool seam = ui.dot(uj) < -1 + 1e-9;
+          const bool convex =
+              !seam && union_contains<2>(c.mold.shapes, Vec<2>(v - probe * (ui + uj)), 0.0);
+          if (seam || !convex || j < i) push = false;
+        }
+      }
+      if (!push) flags[i] &= ~(e == 0 ? DemWall<2>::kEndA : DemWall<2>::kEndB);
+    }
+  }
+  for (std::size_t i = 0; i < walls.size(); ++i) walls[i].edges = flags[i];
+}
+
 std::vector<DemWall<2>> walls_2d(const Case& c, std::vector<int>& wall_owner) {
   std::vector<DemWall<2>> walls;
   const double tol = 1e-9 * mold_size(c);
@@ -96,11 +131,13 @@ std::vector<DemWall<2>> walls_2d(const Case& c, std::vector<int>& wall_owner) {
         };
         if (std::any_of(walls.begin(), walls.end(), same)) continue;
         walls.push_back(DemWall<2>::segment(p0, p1));
+        walls.back().normal = left ? normal : Vec<2>(-normal);  // into the mold
         wall_owner.push_back(-1);
       }
     }
   };
   for (const Shape& s : c.mold.shapes) add_boundary(s);
+  flag_segment_ends(c, walls, tol);
   for (std::size_t w = 0; w < c.moving_walls.size(); ++w) {
     const std::size_t before = walls.size();
     add_touching(c.moving_walls[w].region, static_cast<int>(w));
