@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "dem_wall_helpers.hpp"
 #include "sphdem/config.hpp"
 #include "sphdem/dem.hpp"
 #include "sphdem/dem_run.hpp"
@@ -21,18 +22,7 @@ constexpr double kKn = 1e3, kR = 0.1;
 // the number of walls it touches.
 Vec<2> wall_force(const std::vector<DemWall<2>>& walls, const Vec<2>& x, int* contacts = nullptr,
                   double r = kR) {
-  DemParams<2> p;
-  p.kn = kKn;
-  DemParticles<2> ps;
-  ps.push_owned(0, -1, x, r, 1000, 1.0);
-  DemWorkspace<2> ws;
-  dem_build_pairs(p, walls, ps, ws);
-  compute_dem_forces(p, 0.0, walls, ps, ws);
-  if (contacts) {
-    *contacts = 0;
-    for (const auto& c : ps.wall_contacts[0]) *contacts += c.partner != DemContact<2>::kNone;
-  }
-  return ps.force[0];
+  return testing::wall_force<2>(walls, x, kKn, r, contacts);
 }
 
 DemWall<2> segment(double x0, double x1, int ends) {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "../src/solver/dem_checkpoint.hpp"
+#include "dem_wall_helpers.hpp"
 #include "sphdem/config.hpp"
 #include "sphdem/dem.hpp"
 #include "sphdem/dem_run.hpp"
@@ -26,18 +27,7 @@ constexpr double kKn = 1e3, kR = 0.1;
 
 // The wall force on one sphere at rest at x (kn delta along the push).
 Vec<3> wall_force(const std::vector<DemWall<3>>& walls, const Vec<3>& x, int* contacts = nullptr) {
-  DemParams<3> p;
-  p.kn = kKn;
-  DemParticles<3> ps;
-  ps.push_owned(0, -1, x, kR, 1000, 1.0);
-  DemWorkspace<3> ws;
-  dem_build_pairs(p, walls, ps, ws);
-  compute_dem_forces(p, 0.0, walls, ps, ws);
-  if (contacts) {
-    *contacts = 0;
-    for (const auto& c : ps.wall_contacts[0]) *contacts += c.partner != DemContact<3>::kNone;
-  }
-  return ps.force[0];
+  return testing::wall_force<3>(walls, x, kKn, kR, contacts);
 }
 
 void expect_vec(const Vec<3>& got, const Vec<3>& want, const char* what) {

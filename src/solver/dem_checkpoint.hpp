@@ -1,11 +1,21 @@
 #pragma once
-// The DEM walls' state in a checkpoint (shared by DemRun and the fibers of a
-// coupled Simulation): per wall its type (0 plane, 1 segment, 2 rectangle),
-// point, normal, end and velocity, and for a rectangle also its edges u and
-// v and its edge flags, as one array of numbers (the piston's walls move).
+// The fibers in a checkpoint, shared by DemRun and the fibers of a coupled
+// Simulation: the DEM particles (set "dem", every field marked for
+// checkpoints, contact history in the slots) and the walls' state, per wall
+// its type (0 plane, 1 segment, 2 rectangle), point, normal, end and
+// velocity, and for a rectangle also its edges u and v and its edge flags,
+// as one array of numbers (the piston's walls move).
+#include <fmt/format.h>
+
+#include <memory>
+#include <string>
+#include <utility>
 #include <vector>
 
+#include "sphdem/checkpoint.hpp"
 #include "sphdem/dem.hpp"
+#include "sphdem/dem_domain.hpp"
+#include "sphdem/errors.hpp"
 
 namespace sphdem {
 
@@ -56,6 +66,52 @@ bool set_dem_wall_state(std::vector<DemWall<D>>& walls, const std::vector<double
     w.edges = static_cast<int>(s[i++]);
   }
   return i == s.size();
+}
+
+// Writes the fibers (collective), their contact history stored first.
+template <int D>
+void write_dem_checkpoint(CheckpointWriter& w, DemDomain<D>& dem) {
+  dem.store_state();  // the contact history into the particles' slots
+  w.particles("dem", checkpoint_columns(dem.particles()));
+  w.attribute("dem_walls", dem_wall_state(dem.walls()));
+}
+
+// The fibers as read back, before anything is committed.
+template <int D>
+struct DemCheckpoint {
+  DemParticles<D> particles;  // all of them: every rank reads every row
+  std::vector<DemWall<D>> walls;
+};
+
+// Reads the fibers of checkpoint `path` for the domain `dem` (collective);
+// InputError naming `path` when the particle count or the walls differ from
+// the case's.
+template <int D>
+DemCheckpoint<D> read_dem_checkpoint(CheckpointReader& r, const DemDomain<D>& dem,
+                                     const std::string& path) {
+  DemCheckpoint<D> out;
+  const std::int64_t n = r.count("dem");
+  if (n != dem.global_count())
+    throw InputError(path, 0, "",
+                     fmt::format("the checkpoint holds {} DEM particles, the case makes {}", n,
+                                 dem.global_count()));
+  assign_checkpoint_columns(out.particles, r.particles("dem", /*all_rows=*/true),
+                            static_cast<std::size_t>(n), path);
+  out.walls = dem.walls();
+  if (!set_dem_wall_state(out.walls, r.reals("dem_walls")))
+    throw InputError(path, 0, "", "the checkpoint's DEM walls do not match the case's");
+  return out;
+}
+
+// Replaces `dem` by a domain of the checkpoint's fibers on decomposition
+// `dec`, whose forces are the checkpoint's (an evaluation would re-project
+// the contacts' tangential springs: not bitwise).
+template <int D>
+void restore_dem(std::unique_ptr<DemDomain<D>>& dem, const Decomposition<D>& dec,
+                 DemCheckpoint<D>&& loaded) {
+  dem = std::make_unique<DemDomain<D>>(dec, dem->params(), std::move(loaded.walls),
+                                       std::move(loaded.particles), dem->halo_range());
+  dem->adopt_forces();
 }
 
 }  // namespace sphdem

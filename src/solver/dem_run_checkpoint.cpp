@@ -18,12 +18,10 @@ namespace sphdem {
 template <int D>
 std::string DemRun<D>::write_checkpoint() {
   const std::string path = checkpoint_path(opt_.output_dir, case_.name, step_);
-  dem_->store_state();  // the contact history into the particles' slots
   {
     CheckpointWriter w(comm_, path);
     write_run_attributes(w, comm_, case_, {step_, time_, dt_, snapshots_, last_snapshot_step_});
-    w.attribute("dem_walls", dem_wall_state(dem_->walls()));
-    w.particles("dem", checkpoint_columns(dem_->particles()));
+    write_dem_checkpoint(w, *dem_);
     w.commit();
   }
   last_checkpoint_step_ = step_;
@@ -44,26 +42,14 @@ template <int D>
 void DemRun<D>::load_checkpoint(const std::string& path) {
   CheckpointReader r(comm_, path);
   check_case_identity(case_, r.text("identity"), path);
-  const std::int64_t n = r.count("dem");
-  if (n != dem_->global_count())
-    throw InputError(path, 0, "",
-                     fmt::format("the checkpoint holds {} DEM particles, the case makes {}", n,
-                                 dem_->global_count()));
-  const std::vector<CheckpointColumn> cols = r.particles("dem", /*all_rows=*/true);
-  DemParticles<D> all;
-  assign_checkpoint_columns(all, cols, static_cast<std::size_t>(n), path);
-  std::vector<DemWall<D>> walls = dem_->walls();
-  if (!set_dem_wall_state(walls, r.reals("dem_walls")))
-    throw InputError(path, 0, "", "the checkpoint's DEM walls do not match the case's");
+  DemCheckpoint<D> fibers = read_dem_checkpoint(r, *dem_, path);
   const std::int64_t step = r.integer("step");
   const double time = r.real("time");
   const std::int64_t snapshots = r.integer("snapshots");
   const std::int64_t last_snapshot = r.integer("last_snapshot_step");
 
   // Commit: a new domain from the checkpoint's particles, on the same cells.
-  dem_ = std::make_unique<DemDomain<D>>(*dec_, dem_->params(), std::move(walls), std::move(all),
-                                        dem_->halo_range());
-  dem_->adopt_forces();  // the checkpoint's: an evaluation would re-project contact springs
+  restore_dem(dem_, *dec_, std::move(fibers));
   step_ = step;
   time_ = time;
   snapshots_ = snapshots;

@@ -60,10 +60,8 @@ std::string Simulation<D>::write_checkpoint() {
     if (ps_.n_owned > 0) std::memcpy(build.data.data(), xb.data(), build.data.size());
     cols.push_back(std::move(build));
     w.particles("sph", cols);
-    if (dem_) {             // the fibers of a coupled run, as DemRun stores them
-      dem_->store_state();  // the contact history into the particles' slots
-      w.particles("dem", checkpoint_columns(dem_->particles()));
-      w.attribute("dem_walls", dem_wall_state(dem_->walls()));
+    if (dem_) {  // the fibers of a coupled run, as DemRun stores them
+      write_dem_checkpoint(w, *dem_);
       // The step whose drag impulse the next coupling pass returns, and the
       // sub-step count of the work estimate.
       w.attribute("coupled_dt", coupled_dt_);
@@ -111,21 +109,11 @@ void Simulation<D>::load_checkpoint(const std::string& path) {
     throw InputError(path, 0, "", "the checkpoint's wall state does not match the case's walls");
   // The fibers of a coupled run: every rank reads them all (DemDomain keeps
   // those in its cells).
-  DemParticles<D> fibers;
-  std::vector<DemWall<D>> dem_walls;
+  DemCheckpoint<D> fibers;
   double coupled_dt = 0;
   std::int64_t dem_substeps = 0;
   if (dem_) {
-    const std::int64_t nf = r.count("dem");
-    if (nf != dem_->global_count())
-      throw InputError(path, 0, "",
-                       fmt::format("the checkpoint holds {} DEM particles, the case makes {}", nf,
-                                   dem_->global_count()));
-    assign_checkpoint_columns(fibers, r.particles("dem", /*all_rows=*/true),
-                              static_cast<std::size_t>(nf), path);
-    dem_walls = dem_->walls();
-    if (!set_dem_wall_state(dem_walls, r.reals("dem_walls")))
-      throw InputError(path, 0, "", "the checkpoint's DEM walls do not match the case's");
+    fibers = read_dem_checkpoint(r, *dem_, path);
     coupled_dt = r.real("coupled_dt");
     dem_substeps = r.integer("dem_substeps");
   }
@@ -152,12 +140,9 @@ void Simulation<D>::load_checkpoint(const std::string& path) {
   }
   dec_.partition(dec_.cell_work(ps_, ps_.n_owned), /*replicated=*/false);
   // The fibers: a new DEM domain on the new map (before the rebuild, which
-  // rebuilds it too), whose forces are the checkpoint's (an evaluation
-  // would re-project the contacts' tangential springs: not bitwise).
+  // rebuilds it too).
   if (dem_) {
-    dem_ = std::make_unique<DemDomain<D>>(dec_, dem_->params(), std::move(dem_walls),
-                                          std::move(fibers), dem_->halo_range());
-    dem_->adopt_forces();
+    restore_dem(dem_, dec_, std::move(fibers));
     coupled_dt_ = coupled_dt;
     substeps_ = dem_substeps;
   }
