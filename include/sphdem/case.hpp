@@ -133,7 +133,8 @@ struct FiberSettings {
 struct Case {
   std::string name;
   std::string source_file;
-  std::string source_text;  // the case file as read, stored with the output
+  std::string source_text;             // the case file as read
+  std::vector<std::string> overrides;  // the `--set` key=value strings applied to it
   int dimension = 2;
   Resin resin;
   Numerics numerics;

@@ -61,7 +61,10 @@ class SnapshotWriter {
   // Creates `directory` if needed (rank 0; every rank throws on failure).
   // The XDMF index is <directory>/<case_name>.xdmf. The communicator is
   // copied, so the writer may outlive `comm`, not the MPI_Comm behind it.
-  SnapshotWriter(const Comm& comm, std::string directory, std::string case_name);
+  // `case_yaml`, the effective case (effective_case_yaml, config.hpp), is
+  // stored in every file as the root attribute `case_yaml`.
+  SnapshotWriter(const Comm& comm, std::string directory, std::string case_name,
+                 std::string case_yaml = {});
 
   // Collective. Writes the HDF5 file to a temporary name, closes it and
   // renames it (complete or absent), then rewrites the XDMF (also atomically)
@@ -104,6 +107,7 @@ class SnapshotWriter {
   Comm comm_;
   std::string directory_;
   std::string case_name_;
+  std::string case_yaml_;
   std::string xdmf_path_;
   std::vector<Entry> entries_;
 };

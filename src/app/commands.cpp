@@ -44,6 +44,14 @@ constexpr double kParticleStepsPerSecond = 5e6;
 // Measured one-rank DEM throughput of inputs/fibers_only.yaml (docs/dem.md).
 constexpr double kDemParticleStepsPerSecond = 8e6;
 
+// `sphdem check`: the keys whose values differ from their defaults, from the
+// key schema (docs/case-file.md), as the loader understood them.
+void print_settings(const Case& c) {
+  std::cout << "  keys not at their default (docs/case-file.md):\n";
+  for (const Setting& s : case_settings(c))
+    if (!s.is_default) std::cout << fmt::format("    {} = {}\n", s.key, s.value);
+}
+
 RunOptions run_options(const Case& c, const RunArgs& a) {
   RunOptions opt;
   opt.output_dir = a.output_dir.empty() ? c.output.directory : a.output_dir;
@@ -96,6 +104,7 @@ int check_dem_case(const Case& c, const Comm& comm) {
       c.name, D, run.dem().global_count(), run.placement().fibers, 100 * run.placement().fraction,
       run.dem().walls().size(), run.dt(), c.fibers->dt_safety, c.numerics.end_time, steps,
       n * steps / kDemParticleStepsPerSecond, kDemParticleStepsPerSecond);
+  print_settings(c);
   return 0;
 }
 
@@ -171,6 +180,7 @@ int check_case(const Case& c, const Comm& comm) {
         sim.placement().fibers, sim.dem()->global_count(), 100 * sim.placement().fraction,
         sim.dem_dt(), sub, 2.2 * seconds);
   }
+  print_settings(c);
   return 0;
 }
 
@@ -209,6 +219,12 @@ int dispatch(int argc, char** argv) {
   check_cmd->add_option("case", check.case_file, "Case file (YAML)")->required();
   check_cmd->add_option("--set", check.sets, "Override a case key")->allow_extra_args(false);
 
+  bool markdown = false;
+  CLI::App* keys_cmd =
+      app.add_subcommand("keys", "List every case-file key with its type, unit, default and doc");
+  keys_cmd->add_flag("--markdown", markdown,
+                     "Print the case-file reference page instead (docs/case-file.md)");
+
   PartitionArgs part;
   CLI::App* part_cmd = add_partition_command(app, part);
 
@@ -221,6 +237,10 @@ int dispatch(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
 
+  if (keys_cmd->parsed()) {
+    if (comm.root()) std::cout << (markdown ? case_file_markdown() : keys_text());
+    return 0;
+  }
   if (part_cmd->parsed()) return run_partition_command(part, comm);
   if (run_cmd->parsed()) install_stop_signals();
   const RunArgs& a = run_cmd->parsed() ? run : check;

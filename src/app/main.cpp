@@ -1,5 +1,5 @@
 // The sphdem command line: `sphdem run case.yaml`, `sphdem check case.yaml`,
-// `sphdem partition case.yaml --ranks 64,256`.
+// `sphdem partition case.yaml --ranks 64,256`, `sphdem keys [--markdown]`.
 // Exit status: 0 success, 2 bad input (nothing written), 3 the simulation
 // failed (last state written), 1 anything else.
 #include <mpi.h>

@@ -116,10 +116,47 @@ std::vector<Vec3a> polygon_samples(const Shape& s) {
   return points;
 }
 
+std::vector<std::string> names(const KeysDoc& doc) {
+  std::vector<std::string> n;
+  for (const KeyDoc& k : doc.keys) n.push_back(k.name);
+  return n;
+}
+
 }  // namespace
 
+KeysDoc box_keys_doc() {
+  KeysDoc d;
+  d.keys.push_back({"min", "vector", "m", "required", "", "the lowest corner", false, {}, false});
+  d.keys.push_back({"max",
+                    "vector",
+                    "m",
+                    "required",
+                    "> min along every axis",
+                    "the highest corner",
+                    false,
+                    {},
+                    false});
+  return d;
+}
+
+KeysDoc shape_keys_doc() {
+  KeysDoc d;
+  d.keys.push_back({"polygon",
+                    "list of [x, y]",
+                    "m",
+                    "one of polygon, box",
+                    "2D only; at least 3 vertices; non-zero area",
+                    "vertices, clockwise or counter-clockwise",
+                    false,
+                    {},
+                    false});
+  d.keys.push_back({"box", "mapping", "m", "", "", "{min: [...], max: [...]}, D numbers each",
+                    false, std::make_shared<KeysDoc>(box_keys_doc()), false});
+  return d;
+}
+
 Shape read_box(const Value& v, int dim) {
-  const Map m = v.map({"min", "max"});
+  const Map m = v.map(names(box_keys_doc()));
   Shape s;
   s.type = Shape::Type::Box;
   s.lo = m.require("min").vector(dim);
@@ -137,7 +174,7 @@ Shape read_box(const Value& v, int dim) {
 }
 
 Shape read_shape(const Value& v, int dim) {
-  const Map m = v.map({"polygon", "box"});
+  const Map m = v.map(names(shape_keys_doc()));
   const std::optional<Value> polygon = m.get("polygon");
   const std::optional<Value> box = m.get("box");
   if (polygon.has_value() == box.has_value()) v.fail("expected exactly one of 'polygon' or 'box'");

@@ -5,9 +5,15 @@
 #include <vector>
 
 #include "sphdem/case.hpp"
+#include "sphdem/config.hpp"
 #include "yaml_reader.hpp"
 
 namespace sphdem::config {
+
+// The keys of a shape and of a box, as the schema lists them; the readers
+// below accept exactly these.
+KeysDoc shape_keys_doc();
+KeysDoc box_keys_doc();
 
 // {polygon: [[x, y], ...]} (2D only) or {box: {min: [...], max: [...]}}.
 Shape read_shape(const Value& v, int dim);

@@ -139,8 +139,15 @@ Vec3a Value::vector(int dim) const {
   return v;
 }
 
+Map Value::map(std::vector<std::string> allowed) const {
+  return Map(*this, std::move(allowed));
+}
+
 Map::Map(const Value& self, std::initializer_list<std::string_view> allowed)
-    : self_(self), allowed_(allowed.begin(), allowed.end()) {
+    : Map(self, std::vector<std::string>(allowed.begin(), allowed.end())) {}
+
+Map::Map(const Value& self, std::vector<std::string> allowed)
+    : self_(self), allowed_(std::move(allowed)) {
   if (!self_.node().IsMap()) self_.fail("expected a mapping, got " + self_.describe());
   std::set<std::string> seen;
   for (auto it = self_.node().begin(); it != self_.node().end(); ++it) {

@@ -61,6 +61,7 @@ class Value {
   bool boolean() const;
   std::string string() const;
   Map map(std::initializer_list<std::string_view> allowed) const;
+  Map map(std::vector<std::string> allowed) const;
   std::vector<Value> list() const;
   // Exactly `dim` numbers; unused components of the result are 0.
   Vec3a vector(int dim) const;
@@ -76,6 +77,7 @@ class Value {
 class Map {
  public:
   Map(const Value& self, std::initializer_list<std::string_view> allowed);
+  Map(const Value& self, std::vector<std::string> allowed);
 
   const Value& self() const { return self_; }
   bool has(std::string_view key) const;

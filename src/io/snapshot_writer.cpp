@@ -306,12 +306,14 @@ void write_set(hid_t file, hid_t dxpl, const ParticleSetView& set, const RowPlan
 }
 
 void write_root_attributes(hid_t file, std::int64_t step, double time, int dimension,
-                           const std::string& case_name, const std::string& path) {
+                           const std::string& case_name, const std::string& case_yaml,
+                           const std::string& path) {
   h5::write_attribute(file, "time", time, path);
   h5::write_attribute(file, "step", step, path);
   h5::write_attribute(file, "dimension", dimension, path);
   h5::write_attribute(file, "case", case_name, path);
   h5::write_attribute(file, "sphdem_version", std::string(SPHDEM_VERSION), path);
+  if (!case_yaml.empty()) h5::write_attribute(file, "case_yaml", case_yaml, path);
 }
 
 std::string make_directory(const std::string& dir) {
@@ -323,10 +325,12 @@ std::string make_directory(const std::string& dir) {
 
 }  // namespace
 
-SnapshotWriter::SnapshotWriter(const Comm& comm, std::string directory, std::string case_name)
+SnapshotWriter::SnapshotWriter(const Comm& comm, std::string directory, std::string case_name,
+                               std::string case_yaml)
     : comm_(comm),
       directory_(std::move(directory)),
       case_name_(std::move(case_name)),
+      case_yaml_(std::move(case_yaml)),
       xdmf_path_((fs::path(directory_) / (case_name_ + ".xdmf")).string()) {
   if (bad_name(case_name_))
     throw std::invalid_argument("sphdem: invalid case name '" + case_name_ + "'");
@@ -357,7 +361,8 @@ SnapshotWriter::Entry SnapshotWriter::write_hdf5(const std::string& path, std::i
   Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "create transfer list", path);
   check(H5Pset_dxpl_mpio(dxpl.get(), H5FD_MPIO_COLLECTIVE), "select collective I/O", path);
 
-  write_root_attributes(file.get(), step, time, sets.front().dimension, case_name_, path);
+  write_root_attributes(file.get(), step, time, sets.front().dimension, case_name_, case_yaml_,
+                        path);
 
   Entry entry{step, time, {}, {}};
   for (std::size_t s = 0; s < sets.size(); ++s) {

@@ -6,106 +6,17 @@
 #include <sstream>
 
 #include "sphdem/checkpoint.hpp"
+#include "sphdem/config.hpp"
 
 namespace sphdem {
 
-namespace {
-
-// Doubles as the shortest text that reads back to the same bits.
-std::string num(double v) {
-  return fmt::format("{}", v);
-}
-
-std::string vec(const Vec3a& v) {
-  return fmt::format("[{}, {}, {}]", num(v[0]), num(v[1]), num(v[2]));
-}
-
-std::string shape(const Shape& s) {
-  if (s.type == Shape::Type::Box) return "box " + vec(s.lo) + " " + vec(s.hi);
-  std::string out = "polygon";
-  for (const auto& p : s.vertices) out += fmt::format(" [{}, {}]", num(p[0]), num(p[1]));
-  return out;
-}
-
-std::string table(const VelocityTable& t) {
-  std::string out;
-  for (std::size_t k = 0; k < t.time.size(); ++k)
-    out += fmt::format("{}{}: {}", k ? ", " : "", num(t.time[k]), vec(t.velocity[k]));
-  return out;
-}
-
-}  // namespace
-
+// Generated from the key schema (docs/case-file.md): every key marked
+// "identity", its value as `key = value` (doubles as the shortest text that
+// reads back to the same bits).
 std::vector<std::string> case_identity(const Case& c) {
   std::vector<std::string> id;
-  auto add = [&](const std::string& key, const std::string& value) {
-    id.push_back(key + " = " + value);
-  };
-  add("name", c.name);
-  add("dimension", std::to_string(c.dimension));
-  add("resin.density", num(c.resin.density));
-  add("resin.viscosity", num(c.resin.viscosity));
-  add("resin.sound_speed", num(c.resin.sound_speed));
-  add("resin.gamma", num(c.resin.gamma));
-  const Numerics& n = c.numerics;
-  add("numerics.spacing", num(n.spacing));
-  add("numerics.h_over_spacing", num(n.h_over_spacing));
-  add("numerics.cfl", num(n.cfl));
-  add("numerics.force_factor", num(n.force_factor));
-  add("numerics.viscous_factor", num(n.viscous_factor));
-  add("numerics.fixed_dt", n.fixed_dt ? num(*n.fixed_dt) : "none");
-  add("numerics.viscosity_model", n.viscosity_model == ViscosityModel::Morris ? "morris" : "none");
-  add("numerics.lattice_correction", n.lattice_correction ? "true" : "false");
-  add("numerics.artificial_viscosity", num(n.artificial_viscosity));
-  add("numerics.delta_sph", num(n.delta_sph));
-  add("numerics.anti_clump", n.anti_clump ? "true" : "false");
-  add("numerics.anti_clump_epsilon", num(n.anti_clump_epsilon));
-  add("numerics.anti_clump_exponent", std::to_string(n.anti_clump_exponent));
-  add("numerics.neighbor_skin", num(n.neighbor_skin));
-  add("mold.wall_layers", std::to_string(c.mold.wall_layers));
-  for (std::size_t k = 0; k < c.mold.shapes.size(); ++k)
-    add(fmt::format("mold.shapes[{}]", k), shape(c.mold.shapes[k]));
-  for (std::size_t k = 0; k < c.fill.size(); ++k) add(fmt::format("fill[{}]", k), shape(c.fill[k]));
-  if (c.fibers) {
-    const FiberSettings& f = *c.fibers;
-    add("fibers.count", std::to_string(f.count));
-    add("fibers.area_fraction", num(f.area_fraction));
-    add("fibers.particles_per_fiber", std::to_string(f.particles_per_fiber));
-    add("fibers.diameter", num(f.diameter));
-    add("fibers.density", num(f.density));
-    add("fibers.youngs_modulus", num(f.youngs_modulus));
-    add("fibers.tensile_strength", f.tensile_strength ? num(*f.tensile_strength) : "none");
-    add("fibers.shear_strength", f.shear_strength ? num(*f.shear_strength) : "none");
-    add("fibers.stiffness_ratio", num(f.stiffness_ratio));
-    add("fibers.contact_stiffness_fraction", num(f.contact_stiffness_fraction));
-    add("fibers.restitution", num(f.restitution));
-    add("fibers.friction", num(f.friction));
-    add("fibers.region", shape(f.region));
-    add("fibers.angle", f.angle ? num(*f.angle) : "random");
-    add("fibers.seed", std::to_string(f.seed));
-    add("fibers.dt_safety", num(f.dt_safety));
-  }
-  for (std::size_t k = 0; k < c.moving_walls.size(); ++k) {
-    const MovingWall& w = c.moving_walls[k];
-    const std::string key = fmt::format("moving_walls[{}]", k);
-    add(key + ".name", w.name);
-    add(key + ".region", shape(w.region));
-    add(key + ".velocity_table", table(w.velocity));
-    add(key + ".pressure_limit", w.pressure_limit ? num(*w.pressure_limit) : "none");
-    add(key + ".pressure_relax_time", num(w.pressure_relax_time));
-    add(key + ".adhesion_pressure", num(w.adhesion_pressure));
-  }
-  for (std::size_t k = 0; k < c.sliding_walls.size(); ++k) {
-    const SlidingWall& w = c.sliding_walls[k];
-    const std::string key = fmt::format("sliding_walls[{}]", k);
-    add(key + ".name", w.name);
-    add(key + ".region", shape(w.region));
-    add(key + ".velocity", vec(w.velocity));
-  }
-  add("body_force", vec(c.body_force));
-  add("initial_velocity", vec(c.initial_velocity));
-  add("periodic", fmt::format("{} {} {}", c.periodic[0], c.periodic[1], c.periodic[2]));
-  add("domain", c.domain_lo ? vec(*c.domain_lo) + " " + vec(*c.domain_hi) : "default");
+  for (const Setting& s : case_settings(c))
+    if (s.identity) id.push_back(s.key + " = " + s.value);
   return id;
 }
 

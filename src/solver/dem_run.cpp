@@ -16,6 +16,7 @@
 #include "dem_snapshot.hpp"
 #include "run_loop.hpp"
 #include "sphdem/checkpoint.hpp"
+#include "sphdem/config.hpp"
 #include "sphdem/errors.hpp"
 #include "sphdem/geometry.hpp"
 #include "sphdem/io.hpp"
@@ -162,9 +163,11 @@ template <int D>
 std::string DemRun<D>::write_snapshot() {
   if (!writer_) {
     std::filesystem::create_directories(opt_.output_dir);
-    writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name);
+    writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name,
+                                               effective_case_yaml(case_));
     if (comm_.root())
-      std::ofstream(std::filesystem::path(opt_.output_dir) / "case.yaml") << case_.source_text;
+      std::ofstream(std::filesystem::path(opt_.output_dir) / "case.yaml")
+          << effective_case_yaml(case_);
   }
   dem_->store_state();
   const DemSnapshotBuffers<D> buf(dem_->particles(), comm_);

@@ -11,6 +11,7 @@
 #include "sphdem/case.hpp"
 #include "sphdem/checkpoint.hpp"
 #include "sphdem/comm.hpp"
+#include "sphdem/config.hpp"
 #include "sphdem/solver.hpp"
 
 namespace sphdem {
@@ -26,7 +27,7 @@ inline void write_run_attributes(CheckpointWriter& w, const Comm& comm, const Ca
                                  const RunPosition& at) {
   w.attribute("case", c.name);
   w.attribute("identity", case_identity_text(c));
-  w.attribute("case_text", c.source_text);
+  w.attribute("case_text", effective_case_yaml(c));
   w.attribute("ranks", static_cast<std::int64_t>(comm.size()));
   w.attribute("step", at.step);
   w.attribute("time", at.time);

@@ -9,6 +9,7 @@
 #include "run_loop.hpp"
 #include "snapshot_fields.hpp"
 #include "sphdem/checkpoint.hpp"
+#include "sphdem/config.hpp"
 #include "sphdem/dem_run.hpp"
 #include "sphdem/errors.hpp"
 #include "sphdem/geometry.hpp"
@@ -338,9 +339,11 @@ std::string Simulation<D>::write_snapshot() {
   ScopedPhase t(timers_, Phase::Io);
   if (!writer_) {
     std::filesystem::create_directories(opt_.output_dir);
-    writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name);
+    writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name,
+                                               effective_case_yaml(case_));
     if (comm_.root()) {
-      std::ofstream(std::filesystem::path(opt_.output_dir) / "case.yaml") << case_.source_text;
+      std::ofstream(std::filesystem::path(opt_.output_dir) / "case.yaml")
+          << effective_case_yaml(case_);
     }
   }
   SnapshotBuffers<D> buf(ps_, case_.output.fields);

@@ -1,0 +1,208 @@
+// The top-level keys of a case file (docs/case-file.md), in the order they
+// are read: later keys use earlier ones (the dimension, the resin, the
+// periodic axes).
+#include <algorithm>
+#include <filesystem>
+
+#include "schema.hpp"
+
+namespace sphdem::config {
+
+namespace {
+
+bool any_periodic(const Case& c) {
+  return std::count(c.periodic.begin(), c.periodic.end(), true) > 0;
+}
+
+Key<Case> name() {
+  Key<Case> k = string("name", &Case::name, "the case's name: output files are <name>_<step>.h5");
+  k.defaults_to("the file name without its extension")
+      .when_absent([](const Map& m, Case& c, Context&) {
+        c.name = std::filesystem::path(m.self().source().file()).stem().string();
+      });
+  return k;
+}
+
+Key<Case> dimension() {
+  Key<Case> k{"dimension", "integer", "", "", "2 or 3", "the number of space dimensions, D"};
+  k.read = [](const Value& v, Case& c, Context&) {
+    const int d = v.integer();
+    if (d != 2 && d != 3) v.fail("must be 2 or 3, got " + v.text());
+    c.dimension = d;
+  };
+  k.show = [](const Case& c) { return std::to_string(c.dimension); };
+  return k;
+}
+
+Key<Case> periodic() {
+  Key<Case> k{"periodic",
+              "list of axis names",
+              "",
+              "none",
+              "each of x, y (and z in 3D), at most once",
+              "periodic axes; they need `domain`"};
+  k.read = [](const Value& v, Case& c, Context&) {
+    std::vector<std::string> axes{"x", "y", "z"};
+    axes.resize(static_cast<std::size_t>(c.dimension));
+    for (const Value& item : v.list()) {
+      const std::string axis = one_of(item, axes);
+      const std::size_t d = static_cast<std::size_t>(axis[0] - 'x');
+      if (c.periodic[d]) item.fail("axis '" + axis + "' is listed twice");
+      c.periodic[d] = true;
+    }
+  };
+  k.show = [](const Case& c) {
+    return fmt::format("{} {} {}", c.periodic[0], c.periodic[1], c.periodic[2]);
+  };
+  return k;
+}
+
+Key<Case> domain() {
+  Key<Case> k{"domain",
+              "box",
+              "m",
+              "mold bounding box plus wall layers",
+              "",
+              "{min, max}; required when `periodic` is not empty: the period along a periodic "
+              "axis is max - min"};
+  k.read = [](const Value& v, Case& c, Context&) {
+    const Shape box = read_box(v, c.dimension);
+    c.domain_lo = box.lo;
+    c.domain_hi = box.hi;
+  };
+  k.absent = [](const Map& m, Case& c, Context&) {
+    if (any_periodic(c))
+      m.require("domain", " (periodic axes need a domain: the period is max - min)");
+  };
+  k.show = [](const Case& c) {
+    return c.domain_lo ? show_vector(*c.domain_lo) + " " + show_vector(*c.domain_hi) : "default";
+  };
+  k.section_doc = box_keys_doc;
+  return k;
+}
+
+Key<Case> fill() {
+  Key<Case> k = shape_list("fill", &Case::fill, "resin at t = 0; every shape inside the mold");
+  k.defaults_to("required unless fibers is given");
+  k.section_doc = [] {
+    KeysDoc d = shape_keys_doc();
+    d.notes =
+        "A non-empty list of shapes, filled with resin particles at the start. Every\n"
+        "fill shape must lie inside the mold: its corners (for a polygon: its\n"
+        "vertices) and 7 more points evenly spaced along each edge must be inside the\n"
+        "union of the mold shapes, or on its boundary (within 1e-9 of the mold's\n"
+        "size). Sampling the edges catches concave molds (an L or a U) whose bounding\n"
+        "box contains the fill but whose shape does not. A fill may span several mold\n"
+        "shapes. Error: `key 'fill[0]': fill region lies outside the mold (point\n"
+        "(0.01125, 0.018) is outside)`.\n";
+    return d;
+  };
+  return k;
+}
+
+Key<Case> fibers() {
+  Key<Case> k = optional_mapping("fibers", fiber_keys, &Case::fibers,
+                                 "DEM fibers: with `fill`, carried by the resin (coupled); "
+                                 "without, a fibers-only run; not with `periodic` axes");
+  const auto read = k.read;
+  k.read = [read](const Value& v, Case& c, Context& ctx) {
+    read(v, c, ctx);
+    // A pair and its periodic image would both be listed (dem.hpp).
+    if (any_periodic(c)) v.fail("fibers with periodic axes are not supported");
+  };
+  k.absent = [](const Map& m, Case&, Context&) {
+    if (!m.has("fill")) m.require("fill", " (or fibers: for a case without resin)");
+  };
+  return k;
+}
+
+Key<Case> output() {
+  Key<Case> k = mapping("output", output_keys, &Case::output, "snapshots and progress lines");
+  k.absent = [](const Map&, Case& c, Context&) { output_defaults(c.output, c); };
+  return k;
+}
+
+void check_fill_inside_mold(const Case& c, const Source& src) {
+  for (const Shape& f : c.fill) {
+    if (auto p = point_outside(f, c.mold.shapes, c.dimension)) {
+      src.fail(f.line, f.key,
+               "fill region lies outside the mold (point " + format_point(*p, c.dimension) +
+                   " is outside)");
+    }
+  }
+  if (c.fibers) {
+    if (auto p = point_outside(c.fibers->region, c.mold.shapes, c.dimension)) {
+      src.fail(c.fibers->region.line, c.fibers->region.key,
+               "fiber region lies outside the mold (point " + format_point(*p, c.dimension) +
+                   " is outside)");
+    }
+  }
+}
+
+// The Mach number is a modelling choice, not an error: warn past 0.1, where
+// density errors (about Ma^2) exceed 1 %.
+void warn_mach(Case& c) {
+  constexpr double kMaxMach = 0.1;  // weakly compressible limit
+  double vmax = 0;
+  auto norm = [](const Vec3a& v) { return std::hypot(v[0], v[1], v[2]); };
+  for (const MovingWall& w : c.moving_walls) {
+    for (const Vec3a& v : w.velocity.velocity) vmax = std::max(vmax, norm(v));
+  }
+  for (const SlidingWall& w : c.sliding_walls) vmax = std::max(vmax, norm(w.velocity));
+  const double mach = vmax / c.resin.sound_speed;
+  if (mach > kMaxMach) {
+    c.warnings.push_back(fmt::format(
+        "Mach number {:.3g} (wall speed {:.3g} m/s, sound speed {:.3g} m/s) exceeds {}: expect "
+        "density errors of about {:.2g} %",
+        mach, vmax, c.resin.sound_speed, kMaxMach, 100 * mach * mach));
+  }
+}
+
+Section<Case> make_case() {
+  Section<Case> s;
+  s.keys = {
+      name().identity(),
+      dimension().required().identity(),
+      mapping("resin", resin_keys, &Case::resin, "the resin's properties").required(),
+      mapping("numerics", numerics_keys, &Case::numerics, "resolution, time step, SPH terms")
+          .required(),
+      mapping("mold", mold_keys, &Case::mold, "the cavity").required(),
+      periodic().identity(),
+      domain().identity(),
+      fill().identity(),
+      fibers(),
+      mapping_list("moving_walls", moving_wall_keys, &Case::moving_walls,
+                   "walls that move with a prescribed velocity (the piston)"),
+      mapping_list("sliding_walls", sliding_wall_keys, &Case::sliding_walls,
+                   "walls whose surface moves tangentially"),
+      vector("body_force", "m/s^2", &Case::body_force,
+             "e.g. gravity [0, -9.81]; when it has a component along a non-periodic axis the "
+             "resin starts with hydrostatic densities (p = rho0 |g| depth below the highest resin "
+             "particle)")
+          .defaults_to("zero")
+          .identity(),
+      vector("initial_velocity", "m/s", &Case::initial_velocity,
+             "velocity of all resin at t = 0 (e.g. the piston's, so an incompressible bath "
+             "starts moving with it instead of ringing)")
+          .defaults_to("zero")
+          .identity(),
+      output(),
+      mapping("parallel", parallel_keys, &Case::parallel, "load balancing across MPI ranks"),
+      mapping("checkpoint", checkpoint_keys, &Case::checkpoint, "checkpoints for restart")
+          .defaults_to("none (no checkpoints)"),
+  };
+  s.finish = [](const Map& m, Case& c, Context&) {
+    check_fill_inside_mold(c, m.self().source());
+    warn_mach(c);
+  };
+  return s;
+}
+
+}  // namespace
+
+const Section<Case>& top_keys() {
+  static const Section<Case> s = make_case();
+  return s;
+}
+
+}  // namespace sphdem::config

@@ -1,0 +1,199 @@
+// The `fibers:` keys: how many fibers, of what, where (docs/case-file.md,
+// docs/dem.md).
+#include <numbers>
+
+#include "schema.hpp"
+
+namespace sphdem::config {
+
+namespace {
+
+using F = FiberSettings;
+
+// Exactly one of count and area_fraction (each validated by its key).
+void finish_fibers(const Map& m, F& f, Context&) {
+  f.line = m.self().line();
+  const std::optional<Value> count = m.get("count");
+  const std::optional<Value> fraction = m.get("area_fraction");
+  if (count && fraction) fraction->fail("give either count or area_fraction, not both");
+  if (!count && !fraction) m.require("count", " (give count or area_fraction)");
+}
+
+Key<F> count() {
+  Key<F> k{"count", "integer", "", "one of count, area_fraction", ">= 1", "number of fibers"};
+  k.read = [](const Value& v, F& f, Context&) {
+    f.count = integer_at_least(v, 1);
+    f.amount_line = v.line();
+  };
+  k.show = [](const F& f) { return std::to_string(f.count); };
+  return k;
+}
+
+Key<F> area_fraction() {
+  const Rule rule = in_range(0, 1, true, true);
+  Key<F> k{"area_fraction",
+           "number",
+           "",
+           "one of count, area_fraction",
+           rule.text(),
+           "the smallest count whose particles (disk areas; sphere volumes in 3D) cover this "
+           "fraction of `region`"};
+  k.read = [rule](const Value& v, F& f, Context&) {
+    f.area_fraction = rule.read(v);
+    f.amount_line = v.line();
+  };
+  k.show = [](const F& f) { return show_number(f.area_fraction); };
+  return k;
+}
+
+Key<F> region() {
+  Key<F> k = shape("region", &F::region,
+                   "every particle lies fully inside it; inside the mold; must be a box");
+  k.read = [](const Value& v, F& f, Context& ctx) {
+    f.region = read_shape(v, ctx.c.dimension);
+    if (f.region.type != Shape::Type::Box) v.fail("must be a box: {box: {min: [...], max: [...]}}");
+  };
+  return k;
+}
+
+// An angle in degrees, or `random`.
+Key<F> orientation() {
+  Key<F> k{"orientation",
+           "number or random",
+           "degrees",
+           "",
+           "",
+           "the angle of every fiber from +x (0: across an injection along -y), in 3D in the x-y "
+           "plane; or uniformly random (on the sphere in 3D)"};
+  k.read = [](const Value& v, F& f, Context&) {
+    if (v.node().IsScalar() && v.text() == "random") {
+      f.angle = std::nullopt;
+      return;
+    }
+    if (!v.node().IsScalar())
+      v.fail("expected an angle in degrees or 'random', got " + v.describe());
+    f.angle = v.number() * std::numbers::pi / 180.0;
+  };
+  k.show = [](const F& f) {
+    return f.angle ? show_number(*f.angle * 180.0 / std::numbers::pi) : "random";
+  };
+  return k;
+}
+
+Key<F> seed() {
+  Key<F> k{"seed", "integer", "",
+           "",     ">= 0",    "the same seed places the same fibers on any machine"};
+  k.read = [](const Value& v, F& f, Context&) {
+    f.seed = static_cast<std::uint64_t>(integer_at_least(v, 0));
+  };
+  k.show = [](const F& f) { return std::to_string(f.seed); };
+  return k;
+}
+
+Section<F> make_fibers() {
+  Section<F> s;
+  s.keys = {
+      count().identity(),
+      area_fraction().identity(),
+      integer("particles_per_fiber", "", 1, &F::particles_per_fiber,
+              "touching particles per fiber (fiber length = this x `diameter`)")
+          .identity(),
+      number("diameter", "m", positive_number(), &F::diameter, "particle (fiber) diameter")
+          .required()
+          .identity(),
+      number("density", "kg/m^3", positive_number(), &F::density, "the fibers' density")
+          .required()
+          .identity(),
+      number("youngs_modulus", "Pa", positive_number(), &F::youngs_modulus,
+             "E of the parallel bonds, kbar_n = E / (R1 + R2)")
+          .required()
+          .identity(),
+      optional_number("tensile_strength", "Pa", positive_number(), &F::tensile_strength,
+                      "a bond breaks when its peak tensile stress reaches it; none: never")
+          .identity(),
+      optional_number("shear_strength", "Pa", positive_number(), &F::shear_strength,
+                      "same for the shear stress")
+          .identity(),
+      number("stiffness_ratio", "", positive_number(), &F::stiffness_ratio,
+             "kbar* = kbar_n / kbar_s (the paper's 0.25)")
+          .identity(),
+      number("contact_stiffness_fraction", "", in_range(0, 1, true, false),
+             &F::contact_stiffness_fraction, "contact k_n = this x kbar_n A (docs/dem.md)")
+          .identity(),
+      number("restitution", "", in_range(0, 1, true, false), &F::restitution,
+             "sets the contact damping")
+          .identity(),
+      number("friction", "", non_negative_number(), &F::friction,
+             "Coulomb coefficient, particle-particle and particle-wall")
+          .identity(),
+      region().required().identity(),
+      orientation().identity(),
+      seed().identity(),
+      number("dt_safety", "", in_range(0, 2, true, false), &F::dt_safety,
+             "DEM step = dt_safety x min sqrt(m/k) (`docs/dem.md`); stable up to about 1.2")
+          .identity(),
+      number("void_fraction_min", "", in_range(0, 1, true, true), &F::void_fraction_min,
+             "the local void fraction is clipped to [void_fraction_min, 1] (coupled runs, "
+             "`docs/physics.md` \"Coupling\")")
+          .identity(),
+      boolean("void_fraction_in_continuity", &F::void_fraction_in_continuity,
+              "coupled runs: the resin's continuity equation with the local void fraction (the "
+              "paper's \"local averaging\"); false: plain continuity")
+          .identity(),
+  };
+  s.finish = finish_fibers;
+  s.intro =
+      "Fibers are straight chains of bonded DEM particles (disks in 2D), placed at\n"
+      "random without overlap at the start (`docs/dem.md`). A case with `fibers`\n"
+      "and no `fill` is a **fibers-only run**: no resin; the boundary of the mold\n"
+      "(the union of its shapes) is DEM walls: in 2D the parts of the shapes' edges\n"
+      "on the outline of the union (segments), in 3D, where the mold is a union of\n"
+      "boxes, the parts of the boxes' faces on its surface (rectangles); where two\n"
+      "shapes meet (the bath and the nozzle) there is no wall and fibers pass. Each\n"
+      "moving wall pushes with the edges (3D: faces) of its region that touch the\n"
+      "mold (the piston's face). `resin` and\n"
+      "`numerics.spacing` are still required but unused; of `numerics` only\n"
+      "`end_time` counts (the step is the DEM's, `dt_safety` below). A moving\n"
+      "wall's `pressure_limit` has no effect without resin; sliding walls are\n"
+      "ignored. `inputs/fibers_only.yaml` (2D) and `inputs/fibers_only_3d.yaml`\n"
+      "(3D) are examples.\n"
+      "`output.fields` does not apply: the DEM set always has the fields of\n"
+      "`docs/dem.md`.\n"
+      "\n"
+      "With `fill` too, the case is **coupled** (`docs/physics.md`, \"Coupling\"):\n"
+      "the fibers are placed in `region` among the resin, the DEM walls are those\n"
+      "of a fibers-only run (fibers pass where two shapes meet, e.g. from the bath\n"
+      "into the nozzle), the fibers sub-cycle inside each SPH step, and every\n"
+      "snapshot has the `dem` set beside the resin's. 2D and 3D\n"
+      "(`inputs/validation/coupled_box_3d.yaml`).\n";
+  s.notes =
+      "`count` and `area_fraction` are exclusive; one is required. When the\n"
+      "generator cannot place the fibers (the fraction is too high for random\n"
+      "placement, about 40 % for the paper's fibers), the error points at the key\n"
+      "that asked: `fibers.yaml:8: key 'fibers.area_fraction': fibers: could not\n"
+      "place fiber 1936 of 2751 after 20000 attempts (fraction reached 0.4222,\n"
+      "requested 0.6002); ...`. `sphdem check` places the fibers too, so it reports\n"
+      "this before a run.\n"
+      "\n"
+      "```yaml\n"
+      "fibers:                          # inputs/fibers_only.yaml: the paper's bath\n"
+      "  count: 175                     # 3.82 %\n"
+      "  particles_per_fiber: 4\n"
+      "  diameter: 2.5e-4\n"
+      "  density: 2540\n"
+      "  youngs_modulus: 7.2e10         # E-glass; the paper gives none\n"
+      "  tensile_strength: 2.0e9\n"
+      "  region: {box: {min: [-0.015, 0.030], max: [0.015, 0.060]}}\n"
+      "  orientation: 0\n"
+      "```\n";
+  return s;
+}
+
+}  // namespace
+
+const Section<FiberSettings>& fiber_keys() {
+  static const Section<FiberSettings> s = make_fibers();
+  return s;
+}
+
+}  // namespace sphdem::config

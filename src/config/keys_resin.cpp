@@ -1,0 +1,180 @@
+// The `resin:` and `numerics:` keys (docs/case-file.md). The resin's
+// density and viscosity are read once, here, into Case::resin; the SPH terms
+// (make_sph_params) and the drag law (the coupling's CouplingParams) both
+// take them from there.
+#include <optional>
+
+#include "schema.hpp"
+
+namespace sphdem::config {
+
+namespace {
+
+// c0 is given directly, or as reference_velocity / mach; exactly one way.
+void finish_sound_speed(const Map& m, Resin& r, Context&) {
+  const std::optional<Value> c0 = m.get("sound_speed");
+  const std::optional<Value> mach = m.get("mach");
+  const std::optional<Value> vref = m.get("reference_velocity");
+  if (c0 && (mach || vref)) {
+    const Value& extra = mach ? *mach : *vref;
+    extra.fail("give either sound_speed or mach with reference_velocity, not both");
+  }
+  if (c0) return;
+  if (!mach && !vref) {
+    m.require("sound_speed", " (give sound_speed, or both mach and reference_velocity)");
+  }
+  const double ma = positive(m.require("mach", " (needed with reference_velocity)"));
+  r.sound_speed = positive(m.require("reference_velocity", " (needed with mach)")) / ma;
+}
+
+// A key whose value only feeds another (validated here, combined in finish).
+Key<Resin> input_only(std::string name, std::string unit, std::string doc) {
+  Key<Resin> k{std::move(name), "number", std::move(unit), "none", "> 0", std::move(doc)};
+  k.read = [](const Value& v, Resin&, Context&) { positive(v); };
+  return k;
+}
+
+Section<Resin> make_resin() {
+  Section<Resin> s;
+  s.keys = {
+      number("density", "kg/m^3", positive_number(), &Resin::density,
+             "rest density rho0 (also the drag law's resin density)")
+          .required()
+          .identity(),
+      number("viscosity", "Pa s", non_negative_number(), &Resin::viscosity,
+             "dynamic viscosity mu, 0 = inviscid; read by the SPH viscosity term and the drag law")
+          .required()
+          .identity(),
+      number("sound_speed", "m/s", positive_number(), &Resin::sound_speed,
+             "c0 of the Tait equation of state")
+          .defaults_to("reference_velocity / mach")
+          .identity(),
+      input_only("mach", "", "Mach number, with reference_velocity instead of sound_speed"),
+      input_only("reference_velocity", "m/s", "the flow's speed scale, with mach"),
+      number("gamma", "", positive_number(), &Resin::gamma, "Tait exponent").identity(),
+  };
+  s.finish = finish_sound_speed;
+  s.notes =
+      "The sound speed is given in exactly one of two ways: `sound_speed`, or both\n"
+      "`mach` and `reference_velocity`, in which case c0 = reference_velocity /\n"
+      "mach. Giving both ways, or neither, is an error. Weakly compressible SPH\n"
+      "needs a Mach number of 0.1 or less (density errors grow like Ma^2); a\n"
+      "faster wall than 0.1 c0 gives a warning, not an error.\n";
+  return s;
+}
+
+// A fixed time step must respect the CFL and viscous limits that the
+// adaptive step would (with |v|max = 0, the most lenient case).
+void check_fixed_dt(const Map& m, Numerics& n, Context& ctx) {
+  const std::optional<Value> v = m.get("fixed_dt");
+  if (!v) return;
+  const Resin& r = ctx.c.resin;
+  const double h = n.h_over_spacing * n.spacing;
+  const double cfl_limit = n.cfl * h / r.sound_speed;
+  if (*n.fixed_dt > cfl_limit) {
+    v->fail(fmt::format("{} s exceeds the stable limit cfl*h/c0 = {:.4g} s", v->text(), cfl_limit));
+  }
+  const double visc_limit = n.viscous_factor * h * h * r.density / r.viscosity;
+  if (r.viscosity > 0 && *n.fixed_dt > visc_limit) {
+    v->fail(
+        fmt::format("{} s exceeds the stable limit viscous_factor*h^2*density/viscosity = {:.4g} s",
+                    v->text(), visc_limit));
+  }
+  if (!(n.end_time > *n.fixed_dt)) {
+    const Value end_time = m.require("end_time");
+    end_time.fail(fmt::format("must be greater than numerics.fixed_dt ({} s)", v->text()));
+  }
+}
+
+Key<Numerics> viscosity_model() {
+  Key<Numerics> k{"viscosity_model",
+                  "enum",
+                  "",
+                  "",
+                  "morris or none",
+                  "morris: the Morris et al. (1997) laminar term; none: no physical viscosity"};
+  k.read = [](const Value& v, Numerics& n, Context&) {
+    n.viscosity_model =
+        one_of(v, {"morris", "none"}) == "morris" ? ViscosityModel::Morris : ViscosityModel::None;
+  };
+  k.show = [](const Numerics& n) {
+    return n.viscosity_model == ViscosityModel::Morris ? "morris" : "none";
+  };
+  return k;
+}
+
+constexpr bool kOpen = true, kClosed = false;
+
+Section<Numerics> make_numerics() {
+  using N = Numerics;
+  Section<N> s;
+  s.keys = {
+      number("spacing", "m", positive_number(), &N::spacing, "initial particle spacing dp")
+          .required()
+          .identity(),
+      number("h_over_spacing", "", in_range(1, 3, kClosed, kClosed), &N::h_over_spacing,
+             "smoothing length h = h_over_spacing * spacing")
+          .identity(),
+      number("cfl", "", in_range(0, 1, kOpen, kClosed), &N::cfl, "dt <= cfl h / (c0 + |v|max)")
+          .identity(),
+      number("force_factor", "", in_range(0, 1, kOpen, kClosed), &N::force_factor,
+             "dt <= force_factor sqrt(h / |a|max)")
+          .identity(),
+      number("viscous_factor", "", in_range(0, 1, kOpen, kClosed), &N::viscous_factor,
+             "dt <= viscous_factor h^2 rho0 / mu")
+          .identity(),
+      optional_number("fixed_dt", "s", positive_number(), &N::fixed_dt,
+                      "a fixed time step instead of the adaptive one; see below")
+          .defaults_to("none (adaptive)")
+          .identity(),
+      number("end_time", "s", positive_number(), &N::end_time,
+             "simulated time to run; > `fixed_dt`")
+          .required(),
+      viscosity_model().identity(),
+      number("artificial_viscosity", "", non_negative_number(), &N::artificial_viscosity,
+             "Monaghan alpha")
+          .identity(),
+      number("delta_sph", "", non_negative_number(), &N::delta_sph,
+             "density diffusion coefficient, 0 = off")
+          .identity(),
+      boolean("anti_clump", &N::anti_clump, "Monaghan (2000) tensile-instability term").identity(),
+      number("anti_clump_epsilon", "", non_negative_number(), &N::anti_clump_epsilon,
+             "strength of the anti-clump term")
+          .identity(),
+      integer("anti_clump_exponent", "", 1, &N::anti_clump_exponent,
+              "exponent of the anti-clump term")
+          .identity(),
+      number("neighbor_skin", "", in_range(0, 1, kClosed, kOpen), &N::neighbor_skin,
+             "Verlet skin as a fraction of the support 2h")
+          .identity(),
+      boolean("lattice_correction", &N::lattice_correction,
+              "scale the kernel gradient (by 1/0.964 in 2D at h/dp = 1.2) and the viscous "
+              "Laplacian (1/0.953) so both are exact on the lattice the resin starts on; see "
+              "`docs/physics.md`")
+          .identity(),
+  };
+  s.finish = check_fixed_dt;
+  s.intro = "h below is the smoothing length, `h_over_spacing * spacing`.\n";
+  s.notes =
+      "Without `fixed_dt` the step adapts (the minimum of the three limits above).\n"
+      "A `fixed_dt` that cannot be stable is rejected before the run: it must not\n"
+      "exceed `cfl * h / c0` (the CFL limit at rest, the most lenient it gets) nor,\n"
+      "when the viscosity is positive, `viscous_factor * h^2 * density /\n"
+      "viscosity`. The error gives the limit:\n"
+      "`key 'numerics.fixed_dt': 2.0e-6 s exceeds the stable limit cfl*h/c0 = 1.5e-06 s`.\n";
+  return s;
+}
+
+}  // namespace
+
+const Section<Resin>& resin_keys() {
+  static const Section<Resin> s = make_resin();
+  return s;
+}
+
+const Section<Numerics>& numerics_keys() {
+  static const Section<Numerics> s = make_numerics();
+  return s;
+}
+
+}  // namespace sphdem::config

@@ -1,0 +1,147 @@
+// The `mold:`, `moving_walls:` and `sliding_walls:` keys (docs/case-file.md).
+#include "schema.hpp"
+
+namespace sphdem::config {
+
+namespace {
+
+Section<Mold> make_mold() {
+  Section<Mold> s;
+  s.keys = {
+      integer("wall_layers", "", 1, &Mold::wall_layers, "layers of dummy wall particles")
+          .identity(),
+      shape_list("shapes", &Mold::shapes, "the cavity is their union; polygons in 2D only")
+          .required()
+          .identity(),
+  };
+  s.notes = "The cavity is the union of the shapes; walls are built around it.\n";
+  return s;
+}
+
+// Rows [t, v_x, v_y(, v_z)] with strictly increasing t.
+VelocityTable read_velocity_table(const Value& v, int dim) {
+  const std::vector<Value> rows = v.list();
+  if (rows.empty()) {
+    v.fail("needs at least one row [t, v_x, v_y" + std::string(dim == 3 ? ", v_z]" : "]"));
+  }
+  VelocityTable table;
+  for (const Value& row : rows) {
+    const std::vector<Value> cells = row.list();
+    if (cells.size() != static_cast<std::size_t>(dim + 1)) {
+      row.fail(fmt::format("expected {} numbers [t, velocity] (dimension {}), got {}", dim + 1, dim,
+                           cells.size()));
+    }
+    const double t = cells[0].number();
+    if (!table.time.empty() && !(t > table.time.back())) {
+      cells[0].fail(
+          fmt::format("times must be strictly increasing ({} after {})", t, table.time.back()));
+    }
+    Vec3a vel{};
+    for (int d = 0; d < dim; ++d) vel[d] = cells[d + 1].number();
+    table.time.push_back(t);
+    table.velocity.push_back(vel);
+  }
+  return table;
+}
+
+template <class W>
+Key<W> wall_name() {
+  Key<W> k{"name",
+           "string",
+           "",
+           "",
+           "unique among all walls (moving and sliding)",
+           "the wall's name in the log and the output's wall_id"};
+  k.read = [](const Value& v, W& w, Context& ctx) { w.name = ctx.walls.claim(v); };
+  k.show = [](const W& w) { return w.name; };
+  return k;
+}
+
+template <class W>
+void remember_line(const Map& m, W& w, Context&) {
+  w.line = m.self().line();
+}
+
+Key<MovingWall> velocity_table() {
+  Key<MovingWall> k{"velocity_table",
+                    "table",
+                    "s, m/s",
+                    "",
+                    "1 + D numbers per row; at least one row; times increasing",
+                    "rows [t, v_x, v_y(, v_z)], linear in between, constant outside"};
+  k.read = [](const Value& v, MovingWall& w, Context& ctx) {
+    w.velocity = read_velocity_table(v, ctx.c.dimension);
+  };
+  k.show = [](const MovingWall& w) { return show_table(w.velocity); };
+  return k;
+}
+
+Section<MovingWall> make_moving_wall() {
+  using W = MovingWall;
+  Section<W> s;
+  s.keys = {
+      wall_name<W>().required().identity(),
+      shape("region", &W::region, "the wall particles inside it belong to this wall")
+          .required()
+          .identity(),
+      velocity_table().required().identity(),
+      optional_number("pressure_limit", "Pa", positive_number(), &W::pressure_limit,
+                      "V/P switchover: the wall slows down to keep the resin pressure at its face "
+                      "below this")
+          .identity(),
+      number("pressure_relax_time", "s", positive_number(), &W::pressure_relax_time,
+             "how fast the pressure controller reacts")
+          .identity(),
+      number("adhesion_pressure", "Pa", non_negative_number(), &W::adhesion_pressure,
+             "the tension the resin can take at this wall before it separates (the wall's "
+             "extrapolated pressure is floored at minus this). 0: resin leaves a decelerating "
+             "piston freely; 101325: a sealed piston with air at 1 atm behind the resin front "
+             "(WCSPH resin in tension may then cavitate)")
+          .identity(),
+  };
+  s.finish = remember_line<W>;
+  s.intro = "Each item is a wall that moves with a prescribed velocity (the piston).\n";
+  s.notes =
+      "The velocity is interpolated linearly between rows and held constant before\n"
+      "the first and after the last row. With `pressure_limit`, the wall slows down\n"
+      "whenever the resin pressure at its face would exceed the limit (the\n"
+      "velocity-to-pressure switchover of a molding machine); `pressure_relax_time`\n"
+      "sets how fast that controller reacts.\n";
+  return s;
+}
+
+Section<SlidingWall> make_sliding_wall() {
+  using W = SlidingWall;
+  Section<W> s;
+  s.keys = {
+      wall_name<W>().required().identity(),
+      shape("region", &W::region, "the wall particles inside it belong to this wall")
+          .required()
+          .identity(),
+      vector("velocity", "m/s", &W::velocity, "tangential surface velocity").required().identity(),
+  };
+  s.finish = remember_line<W>;
+  s.intro =
+      "Each item is a wall whose particles stay put but whose surface moves\n"
+      "tangentially (a lid-driven cavity, Couette flow).\n";
+  return s;
+}
+
+}  // namespace
+
+const Section<Mold>& mold_keys() {
+  static const Section<Mold> s = make_mold();
+  return s;
+}
+
+const Section<MovingWall>& moving_wall_keys() {
+  static const Section<MovingWall> s = make_moving_wall();
+  return s;
+}
+
+const Section<SlidingWall>& sliding_wall_keys() {
+  static const Section<SlidingWall> s = make_sliding_wall();
+  return s;
+}
+
+}  // namespace sphdem::config
