@@ -65,6 +65,17 @@ expect(code == 2 and "cannot open" in err, "missing case file exits 2")
 code, out, err = run("check", os.path.join(src, "inputs", "plate.yaml"))
 expect(code == 0 and "10000 resin" in out and "time step" in out and "memory" in out,
        "check prints counts, time step and estimates")
+expect("keys not at their default" in out and "resin.density = 900" in out
+       and "numerics.cfl =" not in out,
+       "check prints the keys not at their default, from the schema")
+
+code, out, err = run("keys")
+expect(code == 0 and "fibers.void_fraction_in_continuity" in out
+       and "moving_walls[].velocity_table" in out and "required" in out,
+       "keys lists every key with its default")
+code, out, err = run("keys", "--markdown")
+expect(code == 0 and out.startswith("# Case files") and "| `density` | number | kg/m^3 |" in out,
+       "keys --markdown prints the reference page")
 
 code, out, err = run("run", pois, "-o", "run_out", "--steps", "50",
                      "--set", "output.every_steps=25", "--set", "output.progress_every=10")
@@ -76,6 +87,21 @@ expect("poiseuille.xdmf" in files and "poiseuille_00000050.h5" in files
        and "poiseuille_00000000.h5" in files and "case.yaml" in files,
        "snapshots at steps 0, 25, 50, the XDMF and the case file: %s" % files)
 expect(not any(f.endswith(".tmp") for f in files), "no temporary files left")
+
+# The effective case: the overrides are in the output's case.yaml, which
+# runs as it is, and in every snapshot.
+effective = open(os.path.join(work, "run_out", "case.yaml")).read()
+expect("every_steps: 25" in effective and "progress_every: 10" in effective
+       and "name: poiseuille" in effective and "# --set output.every_steps=25" in effective,
+       "case.yaml holds the effective case with the overrides")
+code, out, err = run("check", os.path.join(work, "run_out", "case.yaml"))
+expect(code == 0 and "case 'poiseuille'" in out and "output.every_steps = 25" in out,
+       "the effective case.yaml checks as the same case: " + err.strip())
+import h5py  # noqa: E402 (only this check needs it)
+with h5py.File(os.path.join(work, "run_out", "poiseuille_00000050.h5"), "r") as f:
+    stored = f.attrs["case_yaml"]
+    stored = stored.decode() if isinstance(stored, bytes) else str(stored)
+expect(stored == effective, "the snapshot's case_yaml attribute is the effective case")
 
 blow = write("blowup.yaml", """
 dimension: 2

@@ -2,7 +2,8 @@
 
 A run's output directory holds one HDF5 file per snapshot
 (`<case>_<step:08d>.h5`), an XDMF index `<case>.xdmf` that lists them with
-their times, and a copy of the case file `case.yaml`. Each snapshot has the
+their times, and the effective case `case.yaml` (the case file with its
+`--set` overrides applied). Each snapshot has the
 root attributes `time`, `step`, `dimension`, `case` and one group per
 particle set (rows in global-id order, vectors stored with 3 components):
 

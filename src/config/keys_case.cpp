@@ -15,7 +15,7 @@ bool any_periodic(const Case& c) {
 }
 
 Key<Case> name() {
-  Key<Case> k = string("name", &Case::name, "the case's name: output files are <name>_<step>.h5");
+  Key<Case> k = string("name", &Case::name, "the case's name: output files are `<name>_<step>.h5`");
   k.defaults_to("the file name without its extension")
       .when_absent([](const Map& m, Case& c, Context&) {
         c.name = std::filesystem::path(m.self().source().file()).stem().string();

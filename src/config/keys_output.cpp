@@ -45,7 +45,7 @@ Section<Output> make_output() {
   Section<Output> s;
   s.keys = {
       string("directory", &Output::directory, "where snapshots, case.yaml and checkpoints go")
-          .defaults_to("out/<name>"),
+          .defaults_to("`out/<name>`"),
       optional_number("every_time", "s", positive_number(), &Output::every_time,
                       "simulated time between snapshots")
           .defaults_to("end_time / 100 if every_steps is absent too"),

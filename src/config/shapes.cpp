@@ -150,8 +150,9 @@ KeysDoc shape_keys_doc() {
                     false,
                     {},
                     false});
-  d.keys.push_back({"box", "mapping", "m", "", "", "{min: [...], max: [...]}, D numbers each",
-                    false, std::make_shared<KeysDoc>(box_keys_doc()), false});
+  d.keys.push_back({"box", "mapping", "m", "one of polygon, box", "",
+                    "{min: [...], max: [...]}, D numbers each", false,
+                    std::make_shared<KeysDoc>(box_keys_doc()), false});
   return d;
 }
 
