@@ -96,7 +96,9 @@ header comment names the source file and lists the overrides), with `name`
 made explicit. `sphdem run <output>/case.yaml` runs the same case again
 (same checkpoint identity). The same text is stored in every snapshot (the
 HDF5 root attribute `case_yaml`, beside `case`, the case name, and
-`sphdem_version`) and in every checkpoint (`case_text`).
+`sphdem_version`) and in every checkpoint (`case_text`). A restart rewrites
+`case.yaml` with its own effective case (which may differ only in the keys a
+restart may change, `docs/checkpoint.md`).
 
 ## A complete example
 
