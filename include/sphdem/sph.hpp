@@ -91,7 +91,8 @@ LocalExtremes local_extremes(const SphParticles<D>& ps);
 
 // Adaptive time step (DESIGN 2.1): the smallest of the CFL, force and
 // viscous limits, and which one binds.
-enum class DtLimit { Cfl, Force, Viscous, Fixed };
+// Dem: the stable DEM step of a fibers-only run (run.hpp).
+enum class DtLimit { Cfl, Force, Viscous, Fixed, Dem };
 const char* to_string(DtLimit l);
 struct TimeStep {
   double dt = 0;

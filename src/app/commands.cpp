@@ -12,6 +12,7 @@
 #include "sphdem/config.hpp"
 #include "sphdem/dem_run.hpp"
 #include "sphdem/errors.hpp"
+#include "sphdem/run.hpp"
 #include "sphdem/solver.hpp"
 
 namespace sphdem::app {
@@ -62,31 +63,6 @@ RunOptions run_options(const Case& c, const RunArgs& a) {
   return opt;
 }
 
-// A case with fibers and no resin (dem_run.hpp).
-template <int D>
-int run_dem_case(const Case& c, const RunArgs& a, const Comm& comm) {
-  const RunOptions opt = run_options(c, a);
-  prepare_output_dir(comm, opt.output_dir, !a.restart.empty(), a.overwrite);
-  DemRun<D> run(c, comm, opt);
-  if (!a.restart.empty()) run.restart_from(a.restart);
-  if (comm.root() && !a.quiet) {
-    std::cout << fmt::format(
-        "sphdem {}: case '{}' ({}D), {} fibers ({} DEM particles, fraction {:.2f} %), no resin, "
-        "{} DEM walls, {} rank(s) (each runs the whole DEM system)\n",
-        SPHDEM_VERSION, c.name, D, run.placement().fibers, run.dem().global_count(),
-        100 * run.placement().fraction, run.dem().walls().size(), comm.size());
-  }
-  const RunSummary s = run.run();
-  report_stop(s, comm, a.quiet);
-  if (comm.root() && !a.quiet) {
-    std::cout << fmt::format(
-        "done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s), {} snapshots in "
-        "{}\n",
-        s.steps, s.time, s.wall_seconds, s.particle_steps_per_second, s.snapshots, opt.output_dir);
-  }
-  return 0;
-}
-
 template <int D>
 int check_dem_case(const Case& c, const Comm& comm) {
   RunOptions opt;
@@ -108,37 +84,44 @@ int check_dem_case(const Case& c, const Comm& comm) {
   return 0;
 }
 
+// What the run holds, before it starts.
 template <int D>
-int run_case(const Case& c, const RunArgs& a, const Comm& comm) {
-  RunOptions opt;
-  opt.output_dir = a.output_dir;
-  if (a.steps >= 0) opt.max_steps = a.steps;
-  opt.log = a.quiet ? nullptr : &std::cout;
-  if (a.checkpoint_every > 0) opt.checkpoint_every = a.checkpoint_every;
-  opt.stop_requested = stop_requested;
-  prepare_output_dir(comm, opt.output_dir.empty() ? c.output.directory : opt.output_dir,
-                     !a.restart.empty(), a.overwrite);
-  Simulation<D> sim(c, comm, opt);
-  if (!a.restart.empty()) sim.restart_from(a.restart);
-  if (comm.root() && !a.quiet) {
+void print_run_banner(const Run<D>& run, const Case& c, const Comm& comm) {
+  const FiberModule<D>* fibers = run.fibers();
+  if (const ResinModule<D>* resin = run.resin()) {
     std::cout << fmt::format(
         "sphdem {}: case '{}' ({}D), {} resin + {} wall particles, {} rank(s)\n", SPHDEM_VERSION,
-        c.name, D, sim.global_fluid_count(), sim.global_wall_count(), comm.size());
-    if (sim.dem()) {
+        c.name, D, resin->global_fluid_count(), resin->global_wall_count(), comm.size());
+    if (fibers) {
       std::cout << fmt::format(
           "  fibers: {} ({} DEM particles, fraction {:.2f} %), DEM step {:.3g} s\n",
-          sim.placement().fibers, sim.dem()->global_count(), 100 * sim.placement().fraction,
-          sim.dem_dt());
+          fibers->placement().fibers, fibers->dem().global_count(),
+          100 * fibers->placement().fraction, fibers->dem_dt());
     }
+    return;
   }
-  const RunSummary s = sim.run();
+  std::cout << fmt::format(
+      "sphdem {}: case '{}' ({}D), {} fibers ({} DEM particles, fraction {:.2f} %), no resin, "
+      "{} DEM walls, {} rank(s)\n",
+      SPHDEM_VERSION, c.name, D, fibers->placement().fibers, fibers->dem().global_count(),
+      100 * fibers->placement().fraction, fibers->dem().walls().size(), comm.size());
+}
+
+// Every case, with resin, fibers or both, is one Run (run.hpp).
+template <int D>
+int run_case(const Case& c, const RunArgs& a, const Comm& comm) {
+  const RunOptions opt = run_options(c, a);
+  prepare_output_dir(comm, opt.output_dir, !a.restart.empty(), a.overwrite);
+  Run<D> run(c, comm, opt);
+  if (!a.restart.empty()) run.restart_from(a.restart);
+  if (comm.root() && !a.quiet) print_run_banner(run, c, comm);
+  const RunSummary s = run.run();
   report_stop(s, comm, a.quiet);
   if (comm.root() && !a.quiet) {
     std::cout << fmt::format(
-        "done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s), "
-        "{} snapshots in {}\n",
-        s.steps, s.time, s.wall_seconds, s.particle_steps_per_second, s.snapshots,
-        opt.output_dir.empty() ? c.output.directory : opt.output_dir);
+        "done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s), {} snapshots in "
+        "{}\n",
+        s.steps, s.time, s.wall_seconds, s.particle_steps_per_second, s.snapshots, opt.output_dir);
   }
   return 0;
 }
@@ -245,13 +228,10 @@ int dispatch(int argc, char** argv) {
   if (run_cmd->parsed()) install_stop_signals();
   const RunArgs& a = run_cmd->parsed() ? run : check;
   const Case c = load_case(a.case_file, a.sets);
-  if (c.fill.empty()) {  // fibers only (the loader requires one of the two)
-    if (run_cmd->parsed())
-      return c.dimension == 2 ? run_dem_case<2>(c, a, comm) : run_dem_case<3>(c, a, comm);
-    return c.dimension == 2 ? check_dem_case<2>(c, comm) : check_dem_case<3>(c, comm);
-  }
   if (run_cmd->parsed())
     return c.dimension == 2 ? run_case<2>(c, a, comm) : run_case<3>(c, a, comm);
+  if (c.fill.empty())  // fibers only (the loader requires one of the two)
+    return c.dimension == 2 ? check_dem_case<2>(c, comm) : check_dem_case<3>(c, comm);
   return c.dimension == 2 ? check_case<2>(c, comm) : check_case<3>(c, comm);
 }
 

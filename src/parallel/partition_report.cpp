@@ -156,8 +156,9 @@ PartitionReport report(const Case& c, const std::vector<int>& ranks) {
   const InitialCounts counts = build_initial_particles<D>(c, ps);
   r.fluid = static_cast<std::int64_t>(counts.fluid);
   r.wall = static_cast<std::int64_t>(counts.wall);
-  // The grid exactly as Simulation builds it (its NeighborList's cut-off);
-  // the communicator only matters to partition(), which is not called.
+  // The grid exactly as the resin module builds it (its NeighborList's
+  // cut-off); the communicator only matters to partition(), which is not
+  // called.
   const NeighborList<D> nl(2.0 * c.h(), c.numerics.neighbor_skin * 2.0 * c.h());
   r.cutoff = nl.cutoff();
   const Decomposition<D> dec(Comm(MPI_COMM_SELF), simulation_domain<D>(c), c.periodic, nl.cutoff());

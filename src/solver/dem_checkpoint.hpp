@@ -1,10 +1,10 @@
 #pragma once
-// The fibers in a checkpoint, shared by DemRun and the fibers of a coupled
-// Simulation: the DEM particles (set "dem", every field marked for
-// checkpoints, contact history in the slots) and the walls' state, per wall
-// its type (0 plane, 1 segment, 2 rectangle), point, normal, end and
-// velocity, and for a rectangle also its edges u and v and its edge flags,
-// as one array of numbers (the piston's walls move).
+// The fibers in a checkpoint, alone or coupled (the fiber module,
+// src/solver/dem_run_checkpoint.cpp): the DEM particles (set "dem", every
+// field marked for checkpoints, contact history in the slots) and the
+// walls' state, per wall its type (0 plane, 1 segment, 2 rectangle), point,
+// normal, end and velocity, and for a rectangle also its edges u and v and
+// its edge flags, as one array of numbers (the piston's walls move).
 #include <fmt/format.h>
 
 #include <memory>

@@ -1,26 +1,19 @@
-// The DEM-only run (dem_run.hpp): fibers in the mold, pushed by the piston,
-// no resin. Same progress lines and output cadence as the SPH run.
+// The fiber module (fiber_module.hpp): the case's fibers placed in the
+// mold, alone (pushed by the piston) or coupled to the resin; and DemRun,
+// a run of fibers alone.
 #include "sphdem/dem_run.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <ostream>
 #include <stdexcept>
 
 #include "dem_snapshot.hpp"
-#include "run_loop.hpp"
-#include "sphdem/checkpoint.hpp"
-#include "sphdem/config.hpp"
 #include "sphdem/errors.hpp"
 #include "sphdem/geometry.hpp"
-#include "sphdem/io.hpp"
-#include "sphdem/output_cadence.hpp"
 #include "sphdem/timers.hpp"
 
 namespace sphdem {
@@ -80,135 +73,152 @@ DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlace
 }
 
 template <int D>
-DemRun<D>::DemRun(const Case& c, const Comm& comm, RunOptions opt)
-    : case_(c), comm_(comm), opt_(std::move(opt)), motions_(make_wall_motions(c)) {
-  if (!c.fibers) throw std::invalid_argument("sphdem: DemRun needs a case with fibers");
-  if (opt_.output_dir.empty()) opt_.output_dir = c.output.directory;
+FiberModule<D>::FiberModule(const RunContext<D>& ctx, const FiberHost<D>* host) : ctx_(ctx) {
+  const Case& c = ctx.case_data;
+  if (!c.fibers) throw std::invalid_argument("sphdem: a fiber module needs a case with fibers");
+  if (host) host_.emplace(*host);
   // Every rank places the same fibers (same seed), then keeps its own.
   DemSystem<D> all = case_fibers<D>(c, wall_owner_, placement_);
-  const FiberSettings& f = *c.fibers;
-  dt_ = all.stable_dt();
-  box_.lo = box_.hi = all.walls.front().point;
+  dem_dt_ = all.stable_dt();
+  if (host_) {
+    health_box_ = host_->domain;
+    dem_ = std::make_unique<DemDomain<D>>(host_->dec, all.params, all.walls,
+                                          std::move(all.particles), host_->halo_range);
+    return;
+  }
+  Box<D> box;
+  box.lo = box.hi = all.walls.front().point;
   for (const DemWall<D>& w : all.walls) {
-    box_.lo = box_.lo.cwiseMin(w.point).cwiseMin(w.end);
-    box_.hi = box_.hi.cwiseMax(w.point).cwiseMax(w.end);
+    box.lo = box.lo.cwiseMin(w.point).cwiseMin(w.end);
+    box.hi = box.hi.cwiseMax(w.point).cwiseMax(w.end);
   }
   // The cells cover the mold and the health check's margin around it.
-  const double margin = 0.1 * (box_.hi - box_.lo).maxCoeff();
-  const Box<D> cells{box_.lo.array() - margin, box_.hi.array() + margin};
-  const double r = 0.5 * f.diameter;
-  dec_ = std::make_unique<Decomposition<D>>(comm, cells, std::array<bool, 3>{false, false, false},
-                                            DemDomain<D>::reach(r, r));
-  std::vector<std::int64_t> work(static_cast<std::size_t>(dec_->grid().cells()), 0);
+  const double margin = 0.1 * (box.hi - box.lo).maxCoeff();
+  health_box_ = Box<D>{box.lo.array() - margin, box.hi.array() + margin};
+  const double r = 0.5 * c.fibers->diameter;
+  own_dec_ = std::make_unique<Decomposition<D>>(
+      ctx.comm, health_box_, std::array<bool, 3>{false, false, false}, DemDomain<D>::reach(r, r));
+  std::vector<std::int64_t> work(static_cast<std::size_t>(own_dec_->grid().cells()), 0);
   for (std::size_t i = 0; i < all.particles.n_owned; ++i)
-    ++work[static_cast<std::size_t>(dec_->grid().cell_of(all.particles.x[i]))];
-  dec_->partition(work, true);
-  dem_ = std::make_unique<DemDomain<D>>(*dec_, all.params, all.walls, std::move(all.particles));
+    ++work[static_cast<std::size_t>(own_dec_->grid().cell_of(all.particles.x[i]))];
+  own_dec_->partition(work, true);
+  dem_ = std::make_unique<DemDomain<D>>(*own_dec_, all.params, all.walls, std::move(all.particles));
 }
 
 template <int D>
-DemRun<D>::~DemRun() = default;
+FiberModule<D>::~FiberModule() = default;
 
 template <int D>
-void DemRun<D>::do_step() {
-  double dt = dt_;
-  const double to_end = case_.numerics.end_time - time_;
-  if (to_end > 0 && to_end < dt) dt = to_end;
-  // Rigid translation at the table's mid-step velocity: exact within a
-  // segment of the piecewise-linear table.
+std::int64_t FiberModule<D>::counted_particles() const {
+  return coupled() ? 0 : dem_->global_count();  // a coupled run counts its resin
+}
+
+template <int D>
+std::optional<TimeStep> FiberModule<D>::stable_dt() {
+  if (coupled()) return std::nullopt;  // sub-steps of the resin's step
+  return TimeStep{dem_dt_, DtLimit::Dem};
+}
+
+// Rigid translation at the motions' velocity at t (mid-step): exact within
+// a segment of the piecewise-linear table.
+template <int D>
+void FiberModule<D>::move_walls(double t) {
   std::vector<DemWall<D>>& walls = dem_->walls();
   for (std::size_t k = 0; k < walls.size(); ++k) {
     const int w = wall_owner_[k];
-    if (w >= 0)
-      walls[k].velocity =
-          to_vec<D>(motions_[static_cast<std::size_t>(w)].velocity(time_ + 0.5 * dt));
+    if (w >= 0) walls[k].velocity = to_vec<D>(ctx_.walls[static_cast<std::size_t>(w)].velocity(t));
   }
+}
+
+// Alone: one DEM step.
+template <int D>
+void FiberModule<D>::predict(double dt) {
+  if (coupled()) return;
+  ScopedPhase t(ctx_.timers, Phase::Dem);
+  move_walls(ctx_.clock.time + 0.5 * dt);
   dem_->advance(1, dt);
-  time_ += dt;
-  ++step_;
+}
+
+// Coupled: the fibers follow the resin's decomposition (which may have
+// changed). Alone, DemDomain rebuilds when its particles moved.
+template <int D>
+void FiberModule<D>::rebuild(bool /*restart*/) {
+  if (coupled()) dem_->rebuild();
+}
+
+// Coupled: DEM sub-steps over the resin's step [t - dt, t], the drag of
+// the last coupling pass held; the piston's DEM segments move at the SPH
+// piston's mid-step speed.
+template <int D>
+void FiberModule<D>::substep(double dt) {
+  if (!coupled()) return;
+  ScopedPhase t(ctx_.timers, Phase::Dem);
+  const double t0 = ctx_.clock.time - dt;
+  move_walls(t0 + 0.5 * dt);
+  substeps_ = static_cast<std::int64_t>(std::ceil(dt / dem_dt_ * (1 - 1e-12)));
+  substeps_ = std::max<std::int64_t>(substeps_, 1);
+  dem_->advance(substeps_, dt / static_cast<double>(substeps_));
+  dem_->update_ghosts();
+  coupled_dt_ = dt;
 }
 
 // A fiber through a wall (a step too large for an impact) ends the run.
 template <int D>
-void DemRun<D>::check_health() const {
-  const DemParticles<D>& ps = dem_->particles();
-  const double margin = 0.1 * (box_.hi - box_.lo).maxCoeff();
-  std::string error;
-  for (std::size_t i = 0; i < ps.n_owned && error.empty(); ++i) {
-    const Vec<D>& x = ps.x[i];
-    if (!x.allFinite() || (x.array() < box_.lo.array() - margin).any() ||
-        (x.array() > box_.hi.array() + margin).any()) {
-      error = fmt::format("step {} (t = {:.6g} s): DEM particle {} (fiber {}) left the mold", step_,
-                          time_, ps.gid[i], ps.fiber[i]);
+void FiberModule<D>::check_health(std::string& problem) const {
+  const DemParticles<D>& f = dem_->particles();
+  for (std::size_t i = 0; i < f.n_owned && problem.empty(); ++i) {
+    if (!f.x[i].allFinite() || (f.x[i].array() < health_box_.lo.array()).any() ||
+        (f.x[i].array() > health_box_.hi.array()).any()) {
+      problem = fmt::format("fiber particle {} (fiber {}) left the mold", f.gid[i], f.fiber[i]);
     }
   }
-  // Every rank stops together; the lowest rank with a problem names it.
-  const int bad = static_cast<int>(
-      comm_.min(static_cast<std::int64_t>(error.empty() ? comm_.size() : comm_.rank())));
-  if (bad < comm_.size()) {
-    throw SimulationError(bad == comm_.rank() ? error
-                                              : fmt::format("step {}: a DEM particle on rank {} "
-                                                            "left the mold",
-                                                            step_, bad));
-  }
+}
+
+// On the resin's decomposition: each fiber particle's sub-steps at
+// kDemSubstepWork each (a DEM particle-step costs about half a resin
+// particle-step, measured on the plate: 3 pairs against 20 neighbours).
+template <int D>
+void FiberModule<D>::add_cell_work(const Decomposition<D>& dec,
+                                   std::vector<std::int64_t>& work) const {
+  if (!coupled()) return;
+  constexpr std::int64_t kDemSubstepWork = kFluidWork / 2;
+  const std::int64_t per = kDemSubstepWork * std::max<std::int64_t>(substeps_, 1);
+  const DemParticles<D>& f = dem_->particles();
+  for (std::size_t i = 0; i < f.n_owned; ++i)
+    work[static_cast<std::size_t>(dec.grid().cell_of(f.x[i]))] += per;
 }
 
 template <int D>
-void DemRun<D>::advance(std::int64_t n) {
-  for (std::int64_t s = 0; s < n; ++s) do_step();
-  check_health();
-}
-
-template <int D>
-std::string DemRun<D>::write_snapshot() {
-  if (!writer_) {
-    std::filesystem::create_directories(opt_.output_dir);
-    writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name,
-                                               effective_case_yaml(case_));
-    if (comm_.root())
-      std::ofstream(std::filesystem::path(opt_.output_dir) / "case.yaml")
-          << effective_case_yaml(case_);
-  }
+void FiberModule<D>::snapshot(SnapshotParts& parts) {
   dem_->store_state();
-  const DemSnapshotBuffers<D> buf(dem_->particles(), comm_);
-  ++snapshots_;
-  last_snapshot_step_ = step_;
-  return writer_->write(step_, time_, {buf.view()});
+  auto buf = std::make_shared<const DemSnapshotBuffers<D>>(dem_->particles(), ctx_.comm);
+  parts.views.push_back(buf->view());
+  parts.buffers.push_back(std::move(buf));
 }
 
+// Alone: the piston's speed (a coupled run reports the resin's piston).
 template <int D>
-void DemRun<D>::report_progress(double elapsed, std::int64_t steps_done, bool force) const {
-  if (!opt_.log || !comm_.root()) return;
-  const int every = case_.output.progress_every;
-  if (!force && (every <= 0 || step_ % every != 0)) return;
-  const double n = static_cast<double>(dem_->global_count());
-  const double rate = elapsed > 0 ? n * static_cast<double>(steps_done) / elapsed : 0;
-  const double remaining_sim = std::max(0.0, case_.numerics.end_time - time_);
-  const double sim_per_wall = elapsed > 0 ? time_ / elapsed : 0;
-  const double eta = sim_per_wall > 0 ? remaining_sim / sim_per_wall : 0;
-  std::string wall_info;
-  for (std::size_t k = 0; k < dem_->walls().size() && wall_info.empty(); ++k) {
+void FiberModule<D>::progress(std::string& line) const {
+  if (coupled()) return;
+  for (std::size_t k = 0; k < dem_->walls().size(); ++k) {
     if (wall_owner_[k] < 0) continue;
-    const WallMotion& m = motions_[static_cast<std::size_t>(wall_owner_[k])];
-    wall_info = fmt::format("  {} v={:.3g} m/s", m.name, dem_->walls()[k].velocity.norm());
+    const WallMotion& m = ctx_.walls[static_cast<std::size_t>(wall_owner_[k])];
+    line += fmt::format("  {} v={:.3g} m/s", m.name, dem_->walls()[k].velocity.norm());
+    return;
   }
-  *opt_.log << fmt::format(
-                   "step {:>8}  t={:.4e} s  dt={:.3e} s (dem)  {:.3g} particle-steps/s  "
-                   "ETA {:02d}:{:02d}:{:02d}{}\n",
-                   step_, time_, dt_, rate, static_cast<int>(eta / 3600),
-                   static_cast<int>(eta / 60) % 60, static_cast<int>(eta) % 60, wall_info)
-            << std::flush;
 }
 
 template <int D>
-RunSummary DemRun<D>::run() {
-  return drive_run(*this, dem_->global_count(), [this](bool final) {
-    if (final || step_ % 100 == 0) check_health();
-  });
-}
+DemRun<D>::DemRun(const Case& c, const Comm& comm, RunOptions opt)
+    : Run<D>((!c.fibers || !c.fill.empty())
+                 ? throw std::invalid_argument("sphdem: DemRun needs a case with fibers, no resin")
+                 : c,
+             comm, std::move(opt)) {}
 
 template DemSystem<2> case_fibers<2>(const Case&, std::vector<int>&, FiberPlacement&);
 template DemSystem<3> case_fibers<3>(const Case&, std::vector<int>&, FiberPlacement&);
+template class FiberModule<2>;
+template class FiberModule<3>;
 template class DemRun<2>;
 template class DemRun<3>;
 

@@ -1,72 +1,48 @@
-// DemRun<D>: checkpoint and restart of a fibers-only run (docs/checkpoint.md).
-// The DEM particles go through the same column templates as the resin's,
-// group "dem"; every rank reads the whole group back, since DemDomain starts
-// from the full set and keeps the particles in its cells. The walls' state
-// (the piston's segments move) is stored as numbers.
-#include <fmt/format.h>
-
-#include <ostream>
+// The fibers' part of a checkpoint and its restart (docs/checkpoint.md),
+// alone or coupled: the DEM particles and walls (dem_checkpoint.hpp), and
+// for coupled fibers the step whose drag impulse the next coupling pass
+// returns and the sub-step count of the work estimate.
+#include <memory>
 
 #include "dem_checkpoint.hpp"
-#include "run_checkpoint.hpp"
 #include "sphdem/checkpoint.hpp"
-#include "sphdem/dem_run.hpp"
-#include "sphdem/io.hpp"
+#include "sphdem/fiber_module.hpp"
 
 namespace sphdem {
 
 template <int D>
-std::string DemRun<D>::write_checkpoint() {
-  const std::string path = checkpoint_path(opt_.output_dir, case_.name, step_);
-  {
-    CheckpointWriter w(comm_, path);
-    write_run_attributes(w, comm_, case_, {step_, time_, dt_, snapshots_, last_snapshot_step_});
-    write_dem_checkpoint(w, *dem_);
-    w.commit();
-  }
-  last_checkpoint_step_ = step_;
-  last_checkpoint_ = path;
-  checkpoint_published(comm_, opt_, case_, step_, path);
-  return path;
+void FiberModule<D>::write_checkpoint(CheckpointWriter& w) {
+  write_dem_checkpoint(w, *dem_);
+  if (!coupled()) return;
+  w.attribute("coupled_dt", coupled_dt_);
+  w.attribute("dem_substeps", substeps_);
 }
 
+// Every rank reads every fiber (DemDomain starts from the full set and
+// keeps those in its cells); the commit makes a new domain of them on the
+// decomposition as it is then (a coupled run's resin re-partitions first).
 template <int D>
-std::string DemRun<D>::restart_from(const std::string& checkpoint) {
-  return restart_logged(
-      checkpoint, opt_, case_, comm_, [this](const std::string& p) { load_checkpoint(p); }, step_,
-      time_);
-}
-
-// Reads everything first, then commits (see Simulation::load_checkpoint).
-template <int D>
-void DemRun<D>::load_checkpoint(const std::string& path) {
-  CheckpointReader r(comm_, path);
-  check_case_identity(case_, r.text("identity"), path);
-  DemCheckpoint<D> fibers = read_dem_checkpoint(r, *dem_, path);
-  const std::int64_t step = r.integer("step");
-  const double time = r.real("time");
-  const std::int64_t snapshots = r.integer("snapshots");
-  const std::int64_t last_snapshot = r.integer("last_snapshot_step");
-
-  // Commit: a new domain from the checkpoint's particles, on the same cells.
-  restore_dem(dem_, *dec_, std::move(fibers));
-  step_ = step;
-  time_ = time;
-  snapshots_ = snapshots;
-  last_snapshot_step_ = last_snapshot;
-  restarted_ = true;
-  last_checkpoint_step_ = step_;
-  last_checkpoint_ = path;
-  if (opt_.write_output) {
-    writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name);
-    writer_->resume(step_);
-    discard_checkpoints_after(comm_, opt_.output_dir, case_.name, step_);
+std::function<void()> FiberModule<D>::read_checkpoint(CheckpointReader& r,
+                                                      const std::string& path) {
+  auto fibers = std::make_shared<DemCheckpoint<D>>(read_dem_checkpoint(r, *dem_, path));
+  double coupled_dt = 0;
+  std::int64_t substeps = 0;
+  if (coupled()) {
+    coupled_dt = r.real("coupled_dt");
+    substeps = r.integer("dem_substeps");
   }
+  return [this, fibers, coupled_dt, substeps] {
+    restore_dem(dem_, coupled() ? host_->dec : *own_dec_, std::move(*fibers));
+    coupled_dt_ = coupled_dt;
+    substeps_ = substeps;
+  };
 }
 
-template std::string DemRun<2>::write_checkpoint();
-template std::string DemRun<3>::write_checkpoint();
-template std::string DemRun<2>::restart_from(const std::string&);
-template std::string DemRun<3>::restart_from(const std::string&);
+template void FiberModule<2>::write_checkpoint(CheckpointWriter&);
+template void FiberModule<3>::write_checkpoint(CheckpointWriter&);
+template std::function<void()> FiberModule<2>::read_checkpoint(CheckpointReader&,
+                                                               const std::string&);
+template std::function<void()> FiberModule<3>::read_checkpoint(CheckpointReader&,
+                                                               const std::string&);
 
 }  // namespace sphdem

@@ -79,6 +79,8 @@ const char* to_string(DtLimit l) {
       return "viscous";
     case DtLimit::Fixed:
       return "fixed";
+    case DtLimit::Dem:
+      return "dem";
   }
   return "?";
 }

@@ -1,0 +1,51 @@
+// The coupling module (coupling_module.hpp).
+#include "sphdem/coupling_module.hpp"
+
+#include <cmath>
+
+namespace sphdem {
+
+template <int D>
+CouplingModule<D>::CouplingModule(const RunContext<D>& ctx, ResinModule<D>& resin,
+                                  FiberModule<D>& fibers)
+    : ctx_(ctx), resin_(resin), fibers_(fibers) {
+  const Case& c = ctx.case_data;
+  coupling_.drag.rho = c.resin.density;
+  coupling_.drag.mu = c.resin.viscosity;
+  coupling_.drag.eps_min = c.fibers->void_fraction_min;
+  coupling_.h = c.h();
+  coupling_.thickness = fibers.dem().params().thickness;
+  coupling_.void_fraction_in_continuity = c.fibers->void_fraction_in_continuity;
+}
+
+// Drag on the fibers, then its reaction on the resin (coupling_loops.hpp);
+// the DEM ghosts get their owners' drag and S_f in between.
+template <int D>
+void CouplingModule<D>::rates() {
+  ScopedPhase t(ctx_.timers, Phase::Coupling);
+  SphParticles<D>& ps = resin_.particles();
+  DemDomain<D>& domain = fibers_.dem();
+  DemParticles<D>& dem = domain.particles();
+  drag_on_fibers<D>(coupling_, ps, dem, cstate_, fibers_.coupled_dt());
+  domain.update_coupling(cstate_.mean_drag, cstate_.shepard_sum);
+  const Vec<D> reaction =
+      reaction_on_resin<D>(coupling_, dem, cstate_.mean_drag, cstate_.shepard_sum, ps, resin_eps_);
+  // Diagnostics: total drag + total reaction, which must vanish.
+  std::vector<double> sums(2 * D + 1, 0.0);
+  for (std::size_t f = 0; f < dem.n_owned; ++f) {
+    for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(k)] += cstate_.mean_drag[f][k];
+    sums[2 * D] += cstate_.mean_drag[f].norm();
+  }
+  for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(D + k)] = reaction[k];
+  ctx_.comm.sum(sums);
+  double residual = 0;
+  for (int k = 0; k < D; ++k)
+    residual +=
+        std::pow(sums[static_cast<std::size_t>(k)] + sums[static_cast<std::size_t>(D + k)], 2);
+  momentum_residual_ = sums[2 * D] > 0 ? std::sqrt(residual) / sums[2 * D] : 0.0;
+}
+
+template class CouplingModule<2>;
+template class CouplingModule<3>;
+
+}  // namespace sphdem

@@ -1,0 +1,327 @@
+// The run driver (run.hpp): the step over the modules, the run loop with
+// its output cadence, checkpoints, stop requests and progress, the health
+// check, snapshots, and checkpoint write and restart.
+#include "sphdem/run.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <ostream>
+#include <stdexcept>
+
+#include "sphdem/checkpoint.hpp"
+#include "sphdem/config.hpp"
+#include "sphdem/coupling_module.hpp"
+#include "sphdem/errors.hpp"
+#include "sphdem/fiber_module.hpp"
+#include "sphdem/io.hpp"
+#include "sphdem/output_cadence.hpp"
+#include "sphdem/resin_module.hpp"
+
+namespace sphdem {
+
+namespace {
+
+// Fibers alone check their health every this many steps (a resin run
+// checks at every rebuild of its lists as well).
+constexpr std::int64_t kHealthEvery = 100;
+
+}  // namespace
+
+template <int D>
+Run<D>::Run(const Case& c, const Comm& comm, RunOptions opt)
+    : case_(c),
+      comm_(comm),
+      opt_(std::move(opt)),
+      walls_(make_wall_motions(c)),
+      ctx_{case_, comm_, opt_, clock_, timers_, walls_, modules_} {
+  if (opt_.output_dir.empty()) opt_.output_dir = c.output.directory;
+  if (!c.fill.empty()) {
+    auto resin = std::make_unique<ResinModule<D>>(ctx_);
+    resin_ = resin.get();
+    modules_.push_back(std::move(resin));
+  }
+  if (c.fibers) {
+    std::optional<FiberHost<D>> host;
+    if (resin_)
+      host.emplace(
+          FiberHost<D>{resin_->decomposition(), resin_->domain(), resin_->neighbor_cutoff()});
+    auto fibers = std::make_unique<FiberModule<D>>(ctx_, host ? &*host : nullptr);
+    fibers_ = fibers.get();
+    modules_.push_back(std::move(fibers));
+  }
+  if (resin_ && fibers_) {
+    auto coupling = std::make_unique<CouplingModule<D>>(ctx_, *resin_, *fibers_);
+    coupling_ = coupling.get();
+    modules_.push_back(std::move(coupling));
+  }
+  if (modules_.empty()) throw std::invalid_argument("sphdem: a run needs resin or fibers");
+  check_health();
+  // The rates of the initial state (the first step's first kick uses them).
+  for (auto& m : modules_) m->rates();
+}
+
+template <int D>
+Run<D>::~Run() = default;
+
+template <int D>
+std::vector<std::string> Run<D>::module_names() const {
+  std::vector<std::string> names;
+  for (const auto& m : modules_) names.emplace_back(m->name());
+  return names;
+}
+
+template <int D>
+std::int64_t Run<D>::counted_particles() const {
+  std::int64_t n = 0;
+  for (const auto& m : modules_) n += m->counted_particles();
+  return n;
+}
+
+template <int D>
+void Run<D>::do_step() {
+  std::optional<TimeStep> ts;
+  for (auto& m : modules_) {
+    const std::optional<TimeStep> s = m->stable_dt();
+    if (s && (!ts || s->dt < ts->dt)) ts = s;
+  }
+  if (!ts) throw std::logic_error("sphdem: no module of the run limits the step");
+  // Land on end_time exactly rather than overshoot it by up to a step.
+  const double to_end = case_.numerics.end_time - clock_.time;
+  if (to_end > 0 && to_end < ts->dt) ts->dt = to_end;
+  clock_.dt = *ts;
+  const double dt = ts->dt;
+  for (auto& m : modules_) m->predict(dt);
+  clock_.time += dt;
+  ++clock_.step;
+  bool rebuild_needed = false;
+  for (auto& m : modules_) rebuild_needed = m->moved() || rebuild_needed;
+  if (rebuild_needed) rebuild(false);
+  for (auto& m : modules_) m->substep(dt);
+  for (auto& m : modules_) m->rates();
+  for (auto& m : modules_) m->correct(dt);
+}
+
+// Every module follows the one whose lists asked: the fibers of a coupled
+// run live on the resin's decomposition, which a rebuild may change.
+template <int D>
+void Run<D>::rebuild(bool restart) {
+  for (auto& m : modules_) m->rebuild(restart);
+  check_health();
+}
+
+template <int D>
+void Run<D>::check_health() const {
+  std::string problem;
+  for (const auto& m : modules_) m->check_health(problem);
+  // Every rank stops together; the lowest rank with a problem names it.
+  std::int64_t bad = 0;
+  {
+    ScopedPhase t(timers_, Phase::Wait);
+    bad = comm_.min(static_cast<std::int64_t>(problem.empty() ? comm_.size() : comm_.rank()));
+  }
+  if (bad >= comm_.size()) return;
+  throw SimulationError(fmt::format(
+      "step {} (t = {:.6g} s): {}", clock_.step, clock_.time,
+      bad == comm_.rank() ? problem : fmt::format("a particle on rank {} failed", bad)));
+}
+
+template <int D>
+void Run<D>::advance(std::int64_t n) {
+  for (std::int64_t s = 0; s < n; ++s) do_step();
+  check_health();
+}
+
+template <int D>
+std::string Run<D>::write_snapshot() {
+  ScopedPhase t(timers_, Phase::Io);
+  if (!writer_) {
+    std::filesystem::create_directories(opt_.output_dir);
+    writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name,
+                                               effective_case_yaml(case_));
+    if (comm_.root()) {
+      std::ofstream(std::filesystem::path(opt_.output_dir) / "case.yaml")
+          << effective_case_yaml(case_);
+    }
+  }
+  SnapshotParts parts;
+  for (auto& m : modules_) m->snapshot(parts);
+  ++snapshots_;
+  last_snapshot_step_ = clock_.step;
+  return writer_->write(clock_.step, clock_.time, parts.views);
+}
+
+template <int D>
+void Run<D>::report_progress(double elapsed, std::int64_t steps_done, bool force) const {
+  if (!opt_.log || !comm_.root()) return;
+  const int every = case_.output.progress_every;
+  if (!force && (every <= 0 || clock_.step % every != 0)) return;
+  const double rate = elapsed > 0 ? static_cast<double>(counted_particles()) *
+                                        static_cast<double>(steps_done) / elapsed
+                                  : 0;
+  const double remaining_sim = std::max(0.0, case_.numerics.end_time - clock_.time);
+  const double sim_per_wall = elapsed > 0 ? clock_.time / elapsed : 0;
+  const double eta = sim_per_wall > 0 ? remaining_sim / sim_per_wall : 0;
+  std::string extra;
+  for (const auto& m : modules_) m->progress(extra);
+  *opt_.log << fmt::format(
+                   "step {:>8}  t={:.4e} s  dt={:.3e} s ({})  {:.3g} particle-steps/s  "
+                   "ETA {:02d}:{:02d}:{:02d}{}\n",
+                   clock_.step, clock_.time, clock_.dt.dt, to_string(clock_.dt.limit), rate,
+                   static_cast<int>(eta / 3600), static_cast<int>(eta / 60) % 60,
+                   static_cast<int>(eta) % 60, extra)
+            << std::flush;
+}
+
+// Snapshots on the output cadence, checkpoints and stop requests, the last
+// state written when the run blows up, the final state always on disk,
+// progress, and the summary.
+template <int D>
+RunSummary Run<D>::run() {
+  timers_.reset();
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  const double end = case_.numerics.end_time;
+  const std::int64_t step0 = clock_.step;
+  const bool output = opt_.write_output;
+  // A restart continues the series: its first state is already on disk.
+  if (output && !restarted_) write_snapshot();
+  OutputCadence cadence = resumed_output_cadence(case_.output, clock_.time);
+  CheckpointCadence checkpoints(case_.checkpoint, opt_.checkpoint_every, opt_.stop_requested);
+  bool stopped = false;
+  try {
+    while (clock_.time < end * (1 - 1e-12) && (!opt_.max_steps || clock_.step < *opt_.max_steps)) {
+      do_step();
+      if (clock_.step % kHealthEvery == 0) check_health();
+      report_progress(elapsed(), clock_.step - step0, false);
+      if (cadence.due(clock_.step, clock_.time) && output) write_snapshot();
+      const CheckpointCadence::Decision decision = checkpoints.after_step(comm_, clock_.step);
+      if (decision.write && output) {
+        write_checkpoint();
+        checkpoints.written();
+      }
+      if (decision.stop) {
+        stopped = true;
+        break;
+      }
+    }
+    check_health();
+  } catch (const SimulationError&) {
+    if (output) {
+      const std::string last = write_snapshot();
+      if (opt_.log && comm_.root()) *opt_.log << "last state written to " << last << "\n";
+    }
+    throw;
+  }
+  // The final state is always on disk, whatever the cadence (after a stop
+  // request, in the checkpoint: a snapshot off the cadence would not be in
+  // the series of an uninterrupted run).
+  if (output && !stopped && last_snapshot_step_ != clock_.step) write_snapshot();
+  if (output && checkpoints.enabled() && last_checkpoint_step_ != clock_.step) write_checkpoint();
+  RunSummary s;
+  s.stopped = stopped;
+  s.last_checkpoint = last_checkpoint_;
+  s.steps = clock_.step - step0;
+  s.time = clock_.time;
+  s.wall_seconds = elapsed();
+  s.particle_steps_per_second =
+      s.wall_seconds > 0
+          ? static_cast<double>(counted_particles()) * static_cast<double>(s.steps) / s.wall_seconds
+          : 0;
+  const int every = case_.output.progress_every;
+  if (every <= 0 || clock_.step % every != 0) report_progress(s.wall_seconds, s.steps, true);
+  s.snapshots = snapshots_;
+  report_timings(comm_, timers_, s.wall_seconds, opt_.log,
+                 opt_.write_output ? opt_.output_dir : std::string());
+  return s;
+}
+
+// A checkpoint (docs/checkpoint.md): the run's position and the case it
+// belongs to, then each module's part.
+template <int D>
+std::string Run<D>::write_checkpoint() {
+  ScopedPhase t(timers_, Phase::Io);
+  const std::string path = checkpoint_path(opt_.output_dir, case_.name, clock_.step);
+  {
+    CheckpointWriter w(comm_, path);
+    w.attribute("case", case_.name);
+    w.attribute("identity", case_identity_text(case_));
+    w.attribute("case_text", effective_case_yaml(case_));
+    w.attribute("ranks", static_cast<std::int64_t>(comm_.size()));
+    w.attribute("step", clock_.step);
+    w.attribute("time", clock_.time);
+    w.attribute("dt", clock_.dt.dt);
+    w.attribute("dt_limit", static_cast<std::int64_t>(clock_.dt.limit));
+    w.attribute("snapshots", snapshots_);
+    w.attribute("last_snapshot_step", last_snapshot_step_);
+    for (auto& m : modules_) m->write_checkpoint(w);
+    w.commit();
+  }
+  last_checkpoint_step_ = clock_.step;
+  last_checkpoint_ = path;
+  prune_checkpoints(comm_, opt_.output_dir, case_.name, case_.checkpoint.keep);
+  if (opt_.log && comm_.root())
+    *opt_.log << fmt::format("step {}: checkpoint {}\n", clock_.step, path) << std::flush;
+  return path;
+}
+
+template <int D>
+std::string Run<D>::restart_from(const std::string& checkpoint) {
+  const std::string path =
+      restart_from_checkpoint(checkpoint, opt_.output_dir, case_.name, comm_, opt_.log,
+                              [this](const std::string& p) { load_checkpoint(p); });
+  if (opt_.log && comm_.root())
+    *opt_.log << fmt::format("restarting from {} (step {}, t = {:.6g} s)\n", path, clock_.step,
+                             clock_.time)
+              << std::flush;
+  return path;
+}
+
+// Reads everything first, then commits: a refused checkpoint leaves the run
+// as it was (so `latest` can try an older one). The commit rebuilds the
+// modules' lists where the checkpointed run last rebuilt them, so the next
+// rebuild falls on the same step as in the uninterrupted run.
+template <int D>
+void Run<D>::load_checkpoint(const std::string& path) {
+  CheckpointReader r(comm_, path);
+  check_case_identity(case_, r.text("identity"), path);
+  std::vector<std::function<void()>> commits;
+  for (auto& m : modules_) commits.push_back(m->read_checkpoint(r, path));
+  Clock clock;
+  clock.step = r.integer("step");
+  clock.time = r.real("time");
+  clock.dt.dt = r.real("dt");
+  // The resin's limits (a fibers-only checkpoint has no dt_limit).
+  clock.dt.limit = resin_ ? static_cast<DtLimit>(r.integer("dt_limit")) : DtLimit::Dem;
+  const std::int64_t snapshots = r.integer("snapshots");
+  const std::int64_t last_snapshot = r.integer("last_snapshot_step");
+
+  // Commit.
+  for (const std::function<void()>& commit : commits)
+    if (commit) commit();
+  rebuild(/*restart=*/true);
+  for (auto& m : modules_) m->restarted();
+  clock_ = clock;
+  snapshots_ = snapshots;
+  last_snapshot_step_ = last_snapshot;
+  restarted_ = true;
+  last_checkpoint_step_ = clock_.step;
+  last_checkpoint_ = path;
+  if (opt_.write_output) {
+    writer_ = std::make_unique<SnapshotWriter>(comm_, opt_.output_dir, case_.name,
+                                               effective_case_yaml(case_));
+    writer_->resume(clock_.step);
+    discard_checkpoints_after(comm_, opt_.output_dir, case_.name, clock_.step);
+  }
+}
+
+template class Run<2>;
+template class Run<3>;
+
+}  // namespace sphdem

@@ -1,0 +1,146 @@
+// The run driver (include/sphdem/run.hpp, docs/architecture.md): every case
+// goes through one Run, whose modules the case decides (a fibers-only run
+// is a run without the resin); the step, the health check and the progress
+// line are the run's, whatever its modules.
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "sphdem/comm.hpp"
+#include "sphdem/config.hpp"
+#include "sphdem/dem_run.hpp"
+#include "sphdem/errors.hpp"
+#include "sphdem/solver.hpp"
+
+namespace sphdem {
+namespace {
+
+RunOptions quiet() {
+  RunOptions opt;
+  opt.write_output = false;
+  return opt;
+}
+
+Case input(const std::string& file, const std::vector<std::string>& sets = {}) {
+  return load_case(std::string(SPHDEM_SOURCE_DIR) + "/inputs/" + file, sets);
+}
+
+using Names = std::vector<std::string>;
+
+TEST(RunDriver, TheCaseChoosesTheModules) {
+  const Comm comm;
+  const sphdem::Run<2> fibers(input("fibers_only.yaml"), comm, quiet());
+  EXPECT_EQ(fibers.module_names(), Names({"fibers"}));
+  EXPECT_EQ(fibers.resin(), nullptr);
+  ASSERT_NE(fibers.fibers(), nullptr);
+  EXPECT_FALSE(fibers.fibers()->coupled());
+
+  const sphdem::Run<2> coupled(input("validation/coupled_box.yaml"), comm, quiet());
+  EXPECT_EQ(coupled.module_names(), Names({"resin", "fibers", "coupling"}));
+  ASSERT_NE(coupled.fibers(), nullptr);
+  EXPECT_TRUE(coupled.fibers()->coupled());
+  // The coupled fibers' ghosts reach as far as the resin's kernel.
+  EXPECT_GE(coupled.fibers()->dem().halo_range(), coupled.resin()->neighbor_cutoff());
+
+  const sphdem::Run<2> resin(input("validation/poiseuille.yaml"), comm, quiet());
+  EXPECT_EQ(resin.module_names(), Names({"resin"}));
+  EXPECT_EQ(resin.fibers(), nullptr);
+  EXPECT_EQ(resin.coupling(), nullptr);
+
+  // The wrappers are the same driver with the same modules.
+  const DemRun<2> dem_run(input("fibers_only.yaml"), comm, quiet());
+  EXPECT_EQ(dem_run.module_names(), Names({"fibers"}));
+  const Simulation<2> sim(input("validation/coupled_box.yaml"), comm, quiet());
+  EXPECT_EQ(sim.module_names(), Names({"resin", "fibers", "coupling"}));
+}
+
+TEST(RunDriver, WrappersRefuseTheOtherKindOfCase) {
+  const Comm comm;
+  EXPECT_THROW(Simulation<2>(input("fibers_only.yaml"), comm, quiet()), std::invalid_argument);
+  EXPECT_THROW(DemRun<2>(input("validation/poiseuille.yaml"), comm, quiet()),
+               std::invalid_argument);
+}
+
+// Fibers alone step at the stable DEM step; coupled fibers sub-step within
+// the resin's step, which the resin limits.
+TEST(RunDriver, TheStepComesFromTheModules) {
+  const Comm comm;
+  sphdem::Run<2> fibers(input("fibers_only.yaml"), comm, quiet());
+  fibers.advance(5);
+  EXPECT_EQ(fibers.step(), 5);
+  EXPECT_EQ(fibers.last_dt_limit(), DtLimit::Dem);
+  EXPECT_EQ(fibers.last_dt(), fibers.fibers()->dem_dt());
+  double t = 0;
+  for (int s = 0; s < 5; ++s) t += fibers.fibers()->dem_dt();
+  EXPECT_EQ(fibers.time(), t);
+
+  sphdem::Run<2> coupled(input("validation/coupled_box.yaml"), comm, quiet());
+  coupled.advance(2);
+  EXPECT_EQ(coupled.step(), 2);
+  EXPECT_NE(coupled.last_dt_limit(), DtLimit::Dem);
+  EXPECT_GT(coupled.last_dt(), coupled.fibers()->dem_dt());
+  EXPECT_GE(coupled.fibers()->substeps(), 1);
+  EXPECT_EQ(coupled.fibers()->coupled_dt(), coupled.last_dt());
+}
+
+// One progress line for every run: the limit of the step and, fibers alone,
+// the piston's speed.
+TEST(RunDriver, OneProgressLine) {
+  const Comm comm;
+  std::ostringstream log;
+  RunOptions opt = quiet();
+  opt.max_steps = 2;
+  opt.log = &log;
+  sphdem::Run<2> fibers(input("fibers_only.yaml", {"output.progress_every=1"}), comm, opt);
+  const RunSummary s = fibers.run();
+  EXPECT_EQ(s.steps, 2);
+  EXPECT_GT(s.particle_steps_per_second, 0);
+  if (comm.root()) {
+    EXPECT_NE(log.str().find("step        2  t="), std::string::npos) << log.str();
+    EXPECT_NE(log.str().find("(dem)"), std::string::npos) << log.str();
+    EXPECT_NE(log.str().find("piston v="), std::string::npos) << log.str();
+  }
+}
+
+// The health check covers every module and stops every rank together; the
+// lowest rank with a problem names it.
+TEST(RunDriver, HealthCheckOfEveryModule) {
+  const Comm comm;
+  sphdem::Run<2> fibers(input("fibers_only.yaml"), comm, quiet());
+  DemParticles<2>& f = fibers.fibers()->dem().particles();
+  const bool last = comm.rank() == comm.size() - 1;
+  if (last && f.n_owned > 0) f.x[0][1] = 1.0;  // far above the mold
+  // When the last rank owns no fiber particle, nothing fails.
+  if (comm.any(last && f.n_owned > 0)) {
+    try {
+      fibers.advance(0);
+      ADD_FAILURE() << "no error for a fiber out of the mold";
+    } catch (const SimulationError& e) {
+      const std::string what = e.what();
+      if (last)
+        EXPECT_NE(what.find("left the mold"), std::string::npos) << what;
+      else
+        EXPECT_NE(what.find("on rank"), std::string::npos) << what;
+    }
+  }
+
+  sphdem::Run<2> resin(input("validation/poiseuille.yaml"), comm, quiet());
+  SphParticles<2>& ps = resin.resin()->particles();
+  if (comm.root() && ps.n_owned > 0) ps.x[0][1] = -1.0;  // below the plates
+  ASSERT_TRUE(comm.any(comm.root() && ps.n_owned > 0));
+  try {
+    resin.advance(0);
+    ADD_FAILURE() << "no error for a resin particle out of the domain";
+  } catch (const SimulationError& e) {
+    const std::string what = e.what();
+    if (comm.root())
+      EXPECT_NE(what.find("left the domain along axis y"), std::string::npos) << what;
+    else
+      EXPECT_NE(what.find("on rank 0"), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace sphdem
