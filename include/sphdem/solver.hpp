@@ -91,8 +91,6 @@ class Simulation {
   // Momentum check of the last coupling pass, over all ranks: |sum of the
   // drags + sum of the reactions| / sum of |drag| (0 without drag).
   double coupling_momentum_residual() const { return momentum_residual_; }
-  // The coupling's per-DEM-particle results (owned first).
-  const CouplingState<D>& coupling_state() const { return cstate_; }
 
   // Writes a snapshot now (collective); returns its path.
   std::string write_snapshot();

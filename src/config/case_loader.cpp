@@ -16,6 +16,7 @@
 #include "shapes.hpp"
 #include "sphdem/config.hpp"
 #include "sphdem/errors.hpp"
+#include "sphdem/particles.hpp"
 #include "yaml_reader.hpp"
 
 namespace sphdem {
@@ -255,8 +256,7 @@ Output read_output(const std::optional<Value>& v, const Case& c) {
     if (auto x = m.get("fields")) {
       o.fields.clear();
       for (const Value& f : x->list()) {
-        const std::string name =
-            one_of(f, {"velocity", "density", "pressure", "acceleration", "kind", "wall_id"});
+        const std::string name = one_of(f, sph_output_fields());  // the registry's
         if (std::find(o.fields.begin(), o.fields.end(), name) != o.fields.end())
           f.fail("field '" + name + "' is listed twice");
         o.fields.push_back(name);

@@ -74,7 +74,7 @@ void Simulation<D>::advance_fibers(double t0, double dt) {
   substeps_ = static_cast<std::int64_t>(std::ceil(dt / dem_dt_ * (1 - 1e-12)));
   substeps_ = std::max<std::int64_t>(substeps_, 1);
   dem_->advance(substeps_, dt / static_cast<double>(substeps_));
-  dem_->update_ghosts();
+  dem_->forward(DemGroup::State);
   coupled_dt_ = dt;
 }
 
@@ -85,14 +85,13 @@ void Simulation<D>::couple() {
   ScopedPhase t(timers_, Phase::Coupling);
   DemParticles<D>& dem = dem_->particles();
   drag_on_fibers<D>(coupling_, ps_, dem, cstate_, coupled_dt_);
-  dem_->update_coupling(cstate_.mean_drag, cstate_.shepard_sum);
-  const Vec<D> reaction =
-      reaction_on_resin<D>(coupling_, dem, cstate_.mean_drag, cstate_.shepard_sum, ps_, resin_eps_);
+  dem_->forward(DemGroup::Coupling);
+  const Vec<D> reaction = reaction_on_resin<D>(coupling_, dem, ps_, resin_eps_);
   // Diagnostics: total drag + total reaction, which must vanish.
   std::vector<double> sums(2 * D + 1, 0.0);
   for (std::size_t f = 0; f < dem.n_owned; ++f) {
-    for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(k)] += cstate_.mean_drag[f][k];
-    sums[2 * D] += cstate_.mean_drag[f].norm();
+    for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(k)] += dem.mean_drag[f][k];
+    sums[2 * D] += dem.mean_drag[f].norm();
   }
   for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(D + k)] = reaction[k];
   comm_.sum(sums);
@@ -205,7 +204,7 @@ template <int D>
 void Simulation<D>::compute_rates() {
   {
     ScopedPhase t(timers_, Phase::Halo);
-    halo_.update_state(ps_);
+    halo_.forward(ps_, SphGroup::State);
   }
   compute_fluid_pressure<D>(eos_, ps_);
   std::vector<WallKinematics<D>> kin(walls_.size());
@@ -217,7 +216,7 @@ void Simulation<D>::compute_rates() {
   update_wall_controllers(walls_, face_means(face), dt_.dt);
   {
     ScopedPhase t(timers_, Phase::Halo);
-    halo_.update_wall_state(ps_);
+    halo_.forward(ps_, SphGroup::WallState);
   }
   compute_fluid_rates<D>(sp_, nl_, ps_);
   if (dem_) couple();
