@@ -1,5 +1,5 @@
 #pragma once
-// The two coupling passes (DESIGN 3.1 step 5, docs/physics.md "Coupling"),
+// The two coupling passes (docs/physics.md "Coupling"),
 // over the particles present on a rank (owned and ghosts). No MPI: between
 // the passes the solver sends each DEM ghost its owner's drag and Shepard
 // sum (DemHalo::forward(DemGroup::Coupling)).

@@ -4,7 +4,7 @@
 // in particles.hpp). Owned particles first, [0, n_owned), ghosts after
 // (docs/parallel.md, "DEM particles").
 //
-// Owner rule (STYLE habit 4, docs/dem.md): the state of a bond and the
+// Owner rule (docs/dem.md): the state of a bond and the
 // tangential history of a contact between particles a and b live on the
 // particle with the SMALLER global id, keyed by the partner's global id.
 // They sit in that particle's fixed-size slots, so they migrate, go to

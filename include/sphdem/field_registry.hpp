@@ -35,7 +35,7 @@ struct FieldPolicy {
   bool shifted = false;
   std::uint32_t groups = 0;      // bit g: refreshed by forward(group g)
   const char* output = nullptr;  // dataset name; null: never written
-  const char* unit = nullptr;    // unit of the dataset (XDMF, docs/output.md)
+  const char* unit = nullptr;    // unit of the dataset (in the XDMF)
 
   constexpr bool in(std::uint32_t group_bits) const { return (groups & group_bits) != 0; }
 };

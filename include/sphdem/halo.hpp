@@ -8,7 +8,7 @@
 //
 // The plan (per destination: local indices and shifts; per source: counts)
 // is built with the neighbor lists and reused every step until the next
-// rebuild (STYLE habit 2). Ghosts are never written by the physics (gather
+// rebuild. Ghosts are never written by the physics (gather
 // formulation), so there is no reverse communication. What travels is read
 // from the field registry (particles.hpp): every kGhost field at the build,
 // the fields of one exchange group at each forward(group).
