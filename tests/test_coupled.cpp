@@ -78,9 +78,9 @@ TEST(Coupled, TerminalVelocity) {
   while (sim.time() < 6e-3) {
     sim.advance(1);
     if (sim.time() < 4e-3) continue;
-    const auto& st = sim.coupling_state();
-    sum += st.resin_velocity[0][1] - sim.dem()->particles().v[0][1];
-    eps = st.void_fraction[0];
+    const auto& dem = sim.dem()->particles();
+    sum += dem.resin_velocity[0][1] - dem.v[0][1];
+    eps = dem.void_fraction[0];
     ++n;
   }
   const double slip = sum / n;
@@ -110,7 +110,6 @@ TEST(Coupled, FiberRelaxation) {
   const Comm self(MPI_COMM_SELF);
   Simulation<2> sim(c, self, quiet());
   const auto& dem = sim.dem()->particles();
-  const auto& st = sim.coupling_state();
   const auto mean_x = [&](const std::vector<Vec<2>>& v) {
     double s = 0;
     for (std::size_t i = 0; i < 4; ++i) s += v[i][0];
@@ -120,14 +119,14 @@ TEST(Coupled, FiberRelaxation) {
   const CouplingParams p = drag_params(c);
   double rate = 0;
   for (std::size_t i = 0; i < 4; ++i)
-    rate += 1.0 / stokes_relaxation_time(p, 2540, 2.5e-4, st.void_fraction[i]);
+    rate += 1.0 / stokes_relaxation_time(p, 2540, 2.5e-4, dem.void_fraction[i]);
   const double tau = 4.0 / rate;
   std::vector<double> t, slip, vf, vbar;
   while (sim.time() < 5 * tau) {
     sim.advance(1);
     t.push_back(sim.time());
     vf.push_back(mean_x(dem.v));
-    vbar.push_back(mean_x(st.resin_velocity));
+    vbar.push_back(mean_x(dem.resin_velocity));
     slip.push_back(vbar.back() - vf.back());
   }
   // e-folding time of the slip, by log-linear fit over 0.2 tau .. 3 tau.

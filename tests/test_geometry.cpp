@@ -99,7 +99,7 @@ TEST(Halo, PeriodicImagesIncludingCorners) {
   ASSERT_EQ(halo.size(), 4u);
   EXPECT_EQ(ps.size(), 7u);
   ps.v[0] = Vec<2>(3, 4);
-  halo.update_state(ps);
+  halo.forward(ps, SphGroup::State);
   int copies = 0;
   for (std::size_t g = ps.n_owned; g < ps.size(); ++g) {
     if (ps.gid[g] == 0) {

@@ -47,13 +47,6 @@ struct CheckpointColumn {
 
 namespace detail {
 
-template <class T, class = void>
-struct IsDoubleVector : std::false_type {};
-template <class T>
-struct IsDoubleVector<T, std::void_t<typename T::Scalar, decltype(T::SizeAtCompileTime)>>
-    : std::bool_constant<std::is_same_v<typename T::Scalar, double> && (T::SizeAtCompileTime > 0) &&
-                         sizeof(T) == sizeof(double) * T::SizeAtCompileTime> {};
-
 template <class T>
 constexpr ColumnType column_type() {
   if constexpr (std::is_enum_v<T>) {
@@ -81,7 +74,7 @@ constexpr int column_components() {
 
 // The checkpointed fields of particles [0, n_owned), in registry order.
 template <class P>
-std::vector<CheckpointColumn> checkpoint_columns(P& ps) {
+std::vector<CheckpointColumn> checkpoint_columns(const P& ps) {
   std::vector<CheckpointColumn> out;
   ps.for_each_field([&](const char* name, auto& field, FieldPolicy p) {
     if (!p.checkpoint) return;

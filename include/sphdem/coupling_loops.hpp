@@ -1,8 +1,8 @@
 #pragma once
-// The two coupling passes (DESIGN 3.1 step 5, docs/physics.md "Coupling"),
+// The two coupling passes (docs/physics.md "Coupling"),
 // over the particles present on a rank (owned and ghosts). No MPI: between
 // the passes the solver sends each DEM ghost its owner's drag and Shepard
-// sum (DemHalo::update_coupling).
+// sum (DemHalo::forward(DemGroup::Coupling)).
 //   1. drag_on_fibers: for every owned DEM particle f, the mean drag of the
 //      step that just ended (its impulse over the sub-steps / dt: the
 //      momentum the resin must get back), then the void fraction at x_f,
@@ -34,18 +34,12 @@ struct CouplingSettings {
   bool void_fraction_in_continuity = true;  // the "local averaging" continuity form
 };
 
-// Per-DEM-particle results, indexed like the DEM particles (owned first;
-// ghosts' drag and S_f after the solver's exchange).
+// Scratch of drag_on_fibers, kept between passes to spare allocations. The
+// pass's results per DEM particle are fields of DemParticles
+// (dem_particles.hpp): shepard_sum, mean_drag, void_fraction,
+// resin_velocity.
 template <int D>
 struct CouplingState {
-  std::vector<double> shepard_sum;     // S_f (0: no resin near f, no drag)
-  std::vector<Vec<D>> mean_drag;       // drag impulse of the last step / dt [N]
-  std::vector<double> void_fraction;   // clipped eps at x_f
-  std::vector<Vec<D>> resin_velocity;  // Shepard vbar at x_f
-  // Per owned SPH particle: the clipped void fraction (1 for walls and resin
-  // without fibers near).
-  std::vector<double> resin_void_fraction;
-  // Scratch.
   std::vector<std::int32_t> cell_start, cell_items, resin_index;
   std::vector<Vec<D>> resin_x;
 };
@@ -55,10 +49,9 @@ template <int D>
 void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemParticles<D>& dem,
                     CouplingState<D>& st, double dt);
 
+// Reads the DEM particles' mean_drag and shepard_sum, ghosts' included.
 template <int D>
 Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
-                         const std::vector<Vec<D>>& mean_drag,
-                         const std::vector<double>& shepard_sum, SphParticles<D>& sph,
-                         std::vector<double>& resin_void_fraction);
+                         SphParticles<D>& sph, std::vector<double>& resin_void_fraction);
 
 }  // namespace sphdem

@@ -4,7 +4,7 @@
 // Decomposition (its own in a fibers-only run, the resin's in a coupled
 // run) plus ghosts within the halo range, and advances them by velocity-
 // Verlet sub-steps. Between sub-steps only the ghosts' position, velocity
-// and spin travel; a rebuild (migration, ghosts with their slots, pair
+// and spin travel (DemGroup::State); a rebuild (migration, ghosts with their slots, pair
 // list) happens when some particle has moved half the pair-list skin, or
 // when the decomposition changes. Results are bitwise the same on any
 // number of ranks (gather formulation, dem.hpp).
@@ -56,14 +56,12 @@ class DemDomain {
   const std::vector<DemWall<D>>& walls() const { return walls_; }
   const DemParams<D>& params() const { return params_; }
   double halo_range() const { return range_; }
-  // Collective: the ghosts' position, velocity and spin. advance() leaves
-  // the ghosts at the last sub-step's half-step velocity (the final kick
-  // comes after their update); the coupling reads full-step values.
-  void update_ghosts() { halo_.update_state(ps_); }
-  // Collective: the coupling's drag and Shepard sums to the ghosts.
-  void update_coupling(std::vector<Vec<D>>& drag, std::vector<double>& shepard_sum) {
-    halo_.update_coupling(drag, shepard_sum);
-  }
+  // Collective: the fields of an exchange group to the ghosts (DemHalo::
+  // forward). advance() leaves the ghosts at the last sub-step's half-step
+  // velocity (the final kick comes after their update): the coupling,
+  // which reads full-step values, forwards State first; and Coupling after
+  // its drag pass, for the reaction on the resin of other ranks.
+  void forward(DemGroup group) { halo_.forward(ps_, group); }
 
  private:
   const Decomposition<D>& dec_;

@@ -1,10 +1,10 @@
 #pragma once
 // Structure-of-arrays storage for DEM particles (disks in 2D, spheres in
-// 3D), with the field registry of STYLE habit 1 (same FieldPolicy as the
-// SPH particles, particles.hpp). Owned particles first, [0, n_owned),
-// ghosts after (docs/parallel.md, "DEM particles").
+// 3D), with the field registry (field_registry.hpp, as the SPH particles
+// in particles.hpp). Owned particles first, [0, n_owned), ghosts after
+// (docs/parallel.md, "DEM particles").
 //
-// Owner rule (STYLE habit 4, docs/dem.md): the state of a bond and the
+// Owner rule (docs/dem.md): the state of a bond and the
 // tangential history of a contact between particles a and b live on the
 // particle with the SMALLER global id, keyed by the partner's global id.
 // They sit in that particle's fixed-size slots, so they migrate, go to
@@ -100,72 +100,67 @@ using WallContactSlots = std::array<DemContact<D>, kMaxWallContacts<D>>;
 // Flags of DemParticles::fixed.
 enum DemFixed : std::uint8_t { kFree = 0, kFixedMotion = 1 };
 
+// The fibers' per-step ghost exchanges (DemHalo::forward): State between
+// DEM sub-steps, Coupling at the coupling pass (docs/parallel.md, "DEM
+// particles").
+enum class DemGroup : std::uint8_t { State = 0, Coupling = 1 };
+
+// The DEM field registry (field_registry.hpp): X(type, member, policy).
+// Bond and contact slots go to ghosts so that a rank holding the partner as
+// owned can evaluate the same pair from the same state (gather), and travel
+// and checkpoint with their owner.
+#define SPHDEM_DEM_FIELDS(X)                                                                     \
+  /* Identity and constants. */                                                                  \
+  X(std::int64_t, gid, kGhost | kMigrate | kCheckpoint)                                          \
+  X(std::int32_t, fiber,                                                                         \
+    kGhost | kMigrate | kCheckpoint | output_as("fiber", "1")) /* -1 = loose */                  \
+  /* kFixedMotion: v and omega prescribed (clamps, pullers) */                                   \
+  X(std::uint8_t, fixed, kGhost | kMigrate | kCheckpoint)                                        \
+  X(double, radius, kGhost | kMigrate | kCheckpoint | output_as("radius", "m"))                  \
+  X(double, mass, kGhost | kMigrate | kCheckpoint)    /* [kg] (2D: per unit depth, kg/m) */      \
+  X(double, inertia, kGhost | kMigrate | kCheckpoint) /* [kg m^2] (2D: per unit depth) */        \
+  /* State. */                                                                                   \
+  X(Vec<D>, x, kGhost | in_group(DemGroup::State) | kShifted | kMigrate | kCheckpoint) /* [m] */ \
+  X(Vec<D>, v,                                                                                   \
+    kGhost | in_group(DemGroup::State) | kMigrate | kCheckpoint | output_as("velocity", "m/s"))  \
+  X(Rot<D>, omega,                                                                               \
+    kGhost | in_group(DemGroup::State) | kMigrate | kCheckpoint |                                \
+        output_as("angular_velocity", "rad/s"))                                                  \
+  /* Forces of the last evaluation (velocity Verlet's first kick reads them). */                 \
+  X(Vec<D>, force, kMigrate | kCheckpoint)  /* [N] */                                            \
+  X(Rot<D>, torque, kMigrate | kCheckpoint) /* [N m] */                                          \
+  X(Vec<D>, f_ext, kMigrate | kCheckpoint)  /* external force held over the sub-steps [N] */     \
+  /* The resin's drag (docs/physics.md "Coupling"): F = drag_coeff */                            \
+  /* (drag_velocity - v), coefficient K V_f [kg/s] and Shepard resin velocity */                 \
+  /* [m/s] held from the last coupling pass; the impulse [N s] it gave since */                  \
+  /* then goes back to the resin at the next pass. */                                            \
+  X(double, drag_coeff, kMigrate | kCheckpoint)                                                  \
+  X(Vec<D>, drag_velocity, kMigrate | kCheckpoint)                                               \
+  X(Vec<D>, drag_force, kMigrate | kCheckpoint) /* of the last force evaluation [N] */           \
+  X(Vec<D>, drag_impulse, kMigrate | kCheckpoint)                                                \
+  /* Owned interaction state (owner rule above). */                                              \
+  X(BondSlots<D>, bonds, kGhost | kMigrate | kCheckpoint)                                        \
+  X(ContactSlots<D>, contacts, kGhost | kMigrate | kCheckpoint)                                  \
+  X(WallContactSlots<D>, wall_contacts, kMigrate | kCheckpoint)                                  \
+  /* The coupling pass's results (coupling_loops.hpp), recomputed every */                       \
+  /* pass: Shepard sum S_f (0: no resin near, no drag) and the drag */                           \
+  /* impulse of the last step / dt [N], which the resin on other ranks */                        \
+  /* needs from the ghosts, the clipped void fraction and the Shepard */                         \
+  /* resin velocity [m/s] at x_f. */                                                             \
+  X(double, shepard_sum, in_group(DemGroup::Coupling))                                           \
+  X(Vec<D>, mean_drag, in_group(DemGroup::Coupling))                                             \
+  X(double, void_fraction, kLocal)                                                               \
+  X(Vec<D>, resin_velocity, kLocal)
+
 template <int D>
 struct DemParticles {
   std::size_t n_owned = 0;
 
-  // Identity and constants.
-  std::vector<std::int64_t> gid;    // global id
-  std::vector<std::int32_t> fiber;  // fiber id, -1 = loose particle
-  std::vector<std::uint8_t> fixed;  // kFixedMotion: v and omega prescribed (clamps, pullers)
-  std::vector<double> radius;       // [m]
-  std::vector<double> mass;         // [kg] (2D: per unit depth, kg/m)
-  std::vector<double> inertia;      // moment of inertia [kg m^2] (2D: per unit depth)
-  // State.
-  std::vector<Vec<D>> x;      // position [m]
-  std::vector<Vec<D>> v;      // velocity [m/s]
-  std::vector<Rot<D>> omega;  // angular velocity [rad/s]
-  // Forces of the last evaluation (velocity Verlet's first kick reads them).
-  std::vector<Vec<D>> force;   // [N]
-  std::vector<Rot<D>> torque;  // [N m]
-  // External force held over the DEM sub-steps.
-  std::vector<Vec<D>> f_ext;  // [N]
-  // The resin's drag (docs/physics.md "Coupling"): F = drag_coeff
-  // (drag_velocity - v), coefficient K V_f and Shepard resin velocity held
-  // from the last coupling pass; the impulse it gave since then goes back
-  // to the resin at the next pass.
-  std::vector<double> drag_coeff;     // [kg/s]
-  std::vector<Vec<D>> drag_velocity;  // [m/s]
-  std::vector<Vec<D>> drag_force;     // of the last force evaluation [N]
-  std::vector<Vec<D>> drag_impulse;   // since the last coupling pass [N s]
-  // Owned interaction state (owner rule above).
-  std::vector<BondSlots<D>> bonds;
-  std::vector<ContactSlots<D>> contacts;
-  std::vector<WallContactSlots<D>> wall_contacts;
+  SPHDEM_FIELD_REGISTRY(SPHDEM_DEM_FIELDS)
 
   std::size_t size() const { return x.size(); }
   std::size_t n_ghost() const { return size() - n_owned; }
 
-  // The registry: f(name, vector, policy) for every per-particle field.
-  // Bond and contact slots go to ghosts so that a rank holding the partner
-  // as owned can evaluate the same pair from the same state (gather), and
-  // travel and checkpoint with their owner.
-  template <class F>
-  void for_each_field(F&& f) {
-    f("gid", gid, FieldPolicy{true, true, true});
-    f("fiber", fiber, FieldPolicy{true, true, true});
-    f("fixed", fixed, FieldPolicy{true, true, true});
-    f("radius", radius, FieldPolicy{true, true, true});
-    f("mass", mass, FieldPolicy{true, true, true});
-    f("inertia", inertia, FieldPolicy{true, true, true});
-    f("x", x, FieldPolicy{true, true, true});
-    f("v", v, FieldPolicy{true, true, true});
-    f("omega", omega, FieldPolicy{true, true, true});
-    f("force", force, FieldPolicy{false, true, true});
-    f("torque", torque, FieldPolicy{false, true, true});
-    f("f_ext", f_ext, FieldPolicy{false, true, true});
-    f("drag_coeff", drag_coeff, FieldPolicy{false, true, true});
-    f("drag_velocity", drag_velocity, FieldPolicy{false, true, true});
-    f("drag_force", drag_force, FieldPolicy{false, true, true});
-    f("drag_impulse", drag_impulse, FieldPolicy{false, true, true});
-    f("bonds", bonds, FieldPolicy{true, true, true});
-    f("contacts", contacts, FieldPolicy{true, true, true});
-    f("wall_contacts", wall_contacts, FieldPolicy{false, true, true});
-  }
-
-  void resize(std::size_t n) {
-    for_each_field([n](const char*, auto& field, FieldPolicy) { field.resize(n); });
-  }
   void clear_ghosts() { resize(n_owned); }
   void permute_owned(const std::vector<std::size_t>& order) { permute_owned_fields(*this, order); }
 

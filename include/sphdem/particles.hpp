@@ -1,13 +1,16 @@
 #pragma once
 // Structure-of-arrays storage for SPH particles (resin and wall), with the
-// field registry (STYLE habit 1): every per-particle field is listed once in
-// for_each_field(), with its policy. Owned particles come first,
-// [0, n_owned), ghosts after, [n_owned, size()).
+// field registry (field_registry.hpp, docs/architecture.md "Adding a
+// field"): every per-particle field is one line of SPHDEM_SPH_FIELDS, with
+// its policy. Owned particles come first, [0, n_owned), ghosts after,
+// [n_owned, size()).
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
-#include <type_traits>
+#include <string>
 #include <vector>
+
+#include "sphdem/field_registry.hpp"
 
 namespace sphdem {
 
@@ -24,80 +27,58 @@ Vec<D> to_vec(const std::array<double, 3>& a) {
 
 enum class Kind : std::uint8_t { Fluid = 0, Wall = 1 };
 
-// Which stages of the step a field takes part in.
-struct FieldPolicy {
-  bool ghost;       // copied to ghost particles by the halo exchange
-  bool migrate;     // travels with a particle that changes rank
-  bool checkpoint;  // part of the restartable state
-};
+// The resin's per-step ghost exchanges (Halo::forward): State before the
+// rates, to every ghost; WallState after the wall extrapolation, to the
+// wall ghosts only (docs/parallel.md, "The step").
+enum class SphGroup : std::uint8_t { State = 0, WallState = 1 };
 
-// Reorders the first order.size() particles of any registry container
-// (SPH or DEM): new slot k holds old particle order[k].
-template <class P>
-void permute_owned_fields(P& ps, const std::vector<std::size_t>& order) {
-  ps.for_each_field([&](const char*, auto& field, FieldPolicy) {
-    using Field = std::decay_t<decltype(field)>;
-    Field tmp(field.size());
-    for (std::size_t k = 0; k < order.size(); ++k) tmp[k] = field[order[k]];
-    for (std::size_t k = order.size(); k < field.size(); ++k) tmp[k] = field[k];
-    field.swap(tmp);
-  });
-}
+// The SPH field registry (field_registry.hpp): X(type, member, policy).
+#define SPHDEM_SPH_FIELDS(X)                                                                      \
+  /* Identity and constants. */                                                                   \
+  X(std::int64_t, gid, kGhost | kMigrate | kCheckpoint) /* global id, dense per kind */           \
+  X(Kind, kind, kGhost | kMigrate | kCheckpoint | output_as("kind", "1")) /* fluid or wall */     \
+  /* index of the moving/sliding wall, -1 = fixed or fluid */                                     \
+  X(std::int32_t, wall, kGhost | kMigrate | kCheckpoint | output_as("wall_id", "1"))              \
+  X(double, mass, kGhost | kMigrate | kCheckpoint) /* [kg] (2D: per unit depth, kg/m) */          \
+  /* State. */                                                                                    \
+  X(Vec<D>, x, kGhost | in_group(SphGroup::State) | kShifted | kMigrate | kCheckpoint) /* [m] */  \
+  /* velocity; for walls the wall's own velocity */                                               \
+  X(Vec<D>, v,                                                                                    \
+    kGhost | in_group(SphGroup::State) | kMigrate | kCheckpoint | output_as("velocity", "m/s"))   \
+  /* density; walls: extrapolated (Adami) */                                                      \
+  X(double, rho,                                                                                  \
+    kGhost | in_group(SphGroup::State) | in_group(SphGroup::WallState) | kMigrate | kCheckpoint | \
+        output_as("density", "kg/m^3"))                                                           \
+  /* Derived every rate evaluation. */                                                            \
+  /* pressure; walls: extrapolated */                                                             \
+  X(double, p, kGhost | in_group(SphGroup::WallState) | output_as("pressure", "Pa"))              \
+  /* walls: the velocity seen by the viscous term (no-slip) */                                    \
+  X(Vec<D>, vwall, kGhost | in_group(SphGroup::WallState))                                        \
+  /* acceleration, density rate (owned fluid) */                                                  \
+  X(Vec<D>, a, kMigrate | kCheckpoint | output_as("acceleration", "m/s^2"))                       \
+  X(double, drho, kMigrate | kCheckpoint) /* [kg/m^3/s] */                                        \
+  /* Integrator state within a step: half-step values (owned only). They */                       \
+  /* migrate: the neighbor rebuild (and so migration) sits between the */                         \
+  /* drift and the second kick, which reads them. */                                              \
+  X(Vec<D>, v_half, kMigrate)                                                                     \
+  X(double, rho_half, kMigrate)
 
 template <int D>
 struct SphParticles {
   std::size_t n_owned = 0;
 
-  // Identity and constants.
-  std::vector<std::int64_t> gid;   // global id, dense per kind
-  std::vector<Kind> kind;          // fluid or wall
-  std::vector<std::int32_t> wall;  // index of the moving/sliding wall, -1 = fixed or fluid
-  std::vector<double> mass;        // [kg] (per unit depth in 2D: kg/m)
-  // State.
-  std::vector<Vec<D>> x;    // position [m]
-  std::vector<Vec<D>> v;    // velocity [m/s]; for walls the wall's own velocity
-  std::vector<double> rho;  // density [kg/m^3]; walls: extrapolated (Adami)
-  // Derived every rate evaluation.
-  std::vector<double> p;      // pressure [Pa]; walls: extrapolated
-  std::vector<Vec<D>> vwall;  // walls: velocity seen by the viscous term (no-slip)
-  std::vector<Vec<D>> a;      // acceleration [m/s^2] (owned fluid)
-  std::vector<double> drho;   // density rate [kg/m^3/s] (owned fluid)
-  // Integrator state within a step: half-step values (owned only).
-  std::vector<Vec<D>> v_half;
-  std::vector<double> rho_half;
+  SPHDEM_FIELD_REGISTRY(SPHDEM_SPH_FIELDS)
 
   std::size_t size() const { return x.size(); }
   std::size_t n_ghost() const { return size() - n_owned; }
 
-  // The registry. f(name, vector, policy) for every per-particle field.
-  template <class F>
-  void for_each_field(F&& f) {
-    f("gid", gid, FieldPolicy{true, true, true});
-    f("kind", kind, FieldPolicy{true, true, true});
-    f("wall", wall, FieldPolicy{true, true, true});
-    f("mass", mass, FieldPolicy{true, true, true});
-    f("x", x, FieldPolicy{true, true, true});
-    f("v", v, FieldPolicy{true, true, true});
-    f("rho", rho, FieldPolicy{true, true, true});
-    f("p", p, FieldPolicy{true, false, false});
-    f("vwall", vwall, FieldPolicy{true, false, false});
-    f("a", a, FieldPolicy{false, true, true});
-    f("drho", drho, FieldPolicy{false, true, true});
-    // The half-step values migrate: the neighbor rebuild (and so migration)
-    // sits between the drift and the second kick, which reads them.
-    f("v_half", v_half, FieldPolicy{false, true, false});
-    f("rho_half", rho_half, FieldPolicy{false, true, false});
-  }
-
-  void resize(std::size_t n) {
-    for_each_field([n](const char*, auto& field, FieldPolicy) { field.resize(n); });
-  }
-
-  // Appends one owned particle (only valid while there are no ghosts).
+  // Appends one owned particle (only valid while there are no ghosts);
+  // the fields not given here start at zero.
   void push_owned(std::int64_t id, Kind k, std::int32_t wall_index, double m, const Vec<D>& pos,
                   const Vec<D>& vel, double density) {
     const std::size_t i = size();
     resize(i + 1);
+    zero_particle(i);
     gid[i] = id;
     kind[i] = k;
     wall[i] = wall_index;
@@ -105,10 +86,7 @@ struct SphParticles {
     x[i] = pos;
     v[i] = vel;
     rho[i] = density;
-    p[i] = 0.0;
     vwall[i] = vel;
-    a[i].setZero();
-    drho[i] = 0.0;
     v_half[i] = vel;
     rho_half[i] = density;
     n_owned = i + 1;
@@ -117,13 +95,18 @@ struct SphParticles {
   // Drops every ghost.
   void clear_ghosts() { resize(n_owned); }
 
-  // Copies particle `src` onto slot `dst` for every field.
-  void copy_particle(std::size_t dst, std::size_t src) {
-    for_each_field([=](const char*, auto& field, FieldPolicy) { field[dst] = field[src]; });
-  }
-
   // Reorders the owned particles: new slot k holds old particle order[k].
   void permute_owned(const std::vector<std::size_t>& order) { permute_owned_fields(*this, order); }
 };
+
+// What `output.fields` may name: the output names of the registry, in
+// registry order (docs/case-file.md, "output").
+inline std::vector<std::string> sph_output_fields() {
+  std::vector<std::string> names;
+  SphParticles<2>().for_each_field([&](const char*, const auto&, FieldPolicy p) {
+    if (p.output) names.emplace_back(p.output);
+  });
+  return names;
+}
 
 }  // namespace sphdem

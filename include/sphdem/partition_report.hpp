@@ -12,18 +12,14 @@
 #include <vector>
 
 #include "sphdem/case.hpp"
+#include "sphdem/particles.hpp"
 
 namespace sphdem {
 
-// Doubles per ghost and step (docs/parallel.md, "The step"): update_state
-// sends position, velocity and density of every ghost, update_wall_state
-// pressure, density and velocity of the wall ghosts.
-constexpr int state_doubles(int dim) {
-  return 2 * dim + 1;
-}
-constexpr int wall_state_doubles(int dim) {
-  return dim + 2;
-}
+// Bytes per ghost of one Halo::forward(group) (docs/parallel.md, "The
+// step"): the sizes of the group's fields in the registry (particles.hpp).
+// State goes to every ghost, WallState to the wall ghosts.
+std::size_t forward_bytes(int dim, SphGroup group);
 
 struct PartitionStats {
   int ranks = 0;

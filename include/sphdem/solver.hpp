@@ -38,8 +38,6 @@ class Simulation : public Run<D> {
   double coupling_momentum_residual() const {
     return this->coupling() ? this->coupling()->momentum_residual() : 0.0;
   }
-  // The coupling's per-DEM-particle results (owned first).
-  const CouplingState<D>& coupling_state() const;
 };
 
 }  // namespace sphdem

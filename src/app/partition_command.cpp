@@ -70,8 +70,9 @@ CLI::App* add_partition_command(CLI::App& app, PartitionArgs& a) {
       "of a run, and partitions once per rank count. Columns: particles per rank; imbalance =\n"
       "max/mean - 1 of the work (10 per resin, 3 per wall particle); ghosts/owned in total and\n"
       "the largest per rank (ghosts: particles in cells of another rank's 3^D stencil, an upper\n"
-      "bound of the run's halo); halo kB received per step by a rank (8 (2D+1) B per ghost +\n"
-      "8 (D+2) B per wall ghost); neighbor ranks exchanged with; METIS = serial partition time.\n"
+      "bound of the run's halo); halo kB received per step by a rank (the bytes of the field\n"
+      "registry's State group per ghost + WallState group per wall ghost, printed above the\n"
+      "table); neighbor ranks exchanged with; METIS = serial partition time.\n"
       "A rank count above the number of non-empty cells is reported, not partitioned.");
   return cmd;
 }

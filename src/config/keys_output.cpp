@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "schema.hpp"
+#include "sphdem/particles.hpp"
 
 namespace sphdem::config {
 
@@ -14,8 +15,7 @@ void finish_output(const Map&, Output& o, Context& ctx) {
 }
 
 Key<Output> fields() {
-  static const std::vector<std::string> kFields{"velocity",     "density", "pressure",
-                                                "acceleration", "kind",    "wall_id"};
+  static const std::vector<std::string> kFields = sph_output_fields();  // the registry's
   std::string all;
   for (const std::string& f : kFields) all += (all.empty() ? "" : ", ") + f;
   Key<Output> k{"fields",

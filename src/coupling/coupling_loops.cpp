@@ -71,10 +71,10 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
   const WendlandC2<D> kernel(s.h);
   const double support = kernel.support();
   const std::size_t n_dem = dem.size();
-  st.shepard_sum.assign(n_dem, 0.0);
-  st.mean_drag.assign(n_dem, Vec<D>::Zero());
-  st.void_fraction.assign(n_dem, 1.0);
-  st.resin_velocity.assign(n_dem, Vec<D>::Zero());
+  dem.shepard_sum.assign(n_dem, 0.0);
+  dem.mean_drag.assign(n_dem, Vec<D>::Zero());
+  dem.void_fraction.assign(n_dem, 1.0);
+  dem.resin_velocity.assign(n_dem, Vec<D>::Zero());
 
   // Resin particles (owned and ghosts) near the fibers, in a cell list.
   st.resin_index.clear();
@@ -112,10 +112,10 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
       const auto r = static_cast<std::size_t>(st.resin_index[static_cast<std::size_t>(n.index)]);
       shepard.add(sph.mass[r] / sph.rho[r], kernel.w(n.r), sph.v[r]);
     }
-    st.void_fraction[f] = eps;
-    st.shepard_sum[f] = shepard.s;
-    st.resin_velocity[f] = shepard.mean();
-    if (dt > 0) st.mean_drag[f] = dem.drag_impulse[f] / dt;
+    dem.void_fraction[f] = eps;
+    dem.shepard_sum[f] = shepard.s;
+    dem.resin_velocity[f] = shepard.mean();
+    if (dt > 0) dem.mean_drag[f] = dem.drag_impulse[f] / dt;
     dem.drag_impulse[f].setZero();
     const double d = 2.0 * dem.radius[f];
     const double vol = s.thickness * particle_volume<D>(d);
@@ -136,9 +136,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
 // particles rather than by the whole resin.
 template <int D>
 Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
-                         const std::vector<Vec<D>>& mean_drag,
-                         const std::vector<double>& shepard_sum, SphParticles<D>& sph,
-                         std::vector<double>& resin_void_fraction) {
+                         SphParticles<D>& sph, std::vector<double>& resin_void_fraction) {
   const WendlandC2<D> kernel(s.h);
   const double support = kernel.support();
   resin_void_fraction.assign(sph.n_owned, 1.0);
@@ -173,7 +171,7 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
     const auto f = static_cast<std::size_t>(fi);
     const double vol_f = dem_volume(dem, f);
     // Each neighbour r takes V_r W_fr of -F_mean / S_f (reaction.hpp).
-    const Vec<D> share = terms::reaction_per_weight<D>(shepard_sum[f], mean_drag[f]);
+    const Vec<D> share = terms::reaction_per_weight<D>(dem.shepard_sum[f], dem.mean_drag[f]);
     cells.for_each_near(dem.x[f], [&](std::int32_t k) {
       const auto ku = static_cast<std::size_t>(k);
       const auto r = static_cast<std::size_t>(resin[ku]);
@@ -210,10 +208,8 @@ template void drag_on_fibers<2>(const CouplingSettings&, const SphParticles<2>&,
 template void drag_on_fibers<3>(const CouplingSettings&, const SphParticles<3>&, DemParticles<3>&,
                                 CouplingState<3>&, double);
 template Vec<2> reaction_on_resin<2>(const CouplingSettings&, const DemParticles<2>&,
-                                     const std::vector<Vec<2>>&, const std::vector<double>&,
                                      SphParticles<2>&, std::vector<double>&);
 template Vec<3> reaction_on_resin<3>(const CouplingSettings&, const DemParticles<3>&,
-                                     const std::vector<Vec<3>>&, const std::vector<double>&,
                                      SphParticles<3>&, std::vector<double>&);
 
 }  // namespace sphdem

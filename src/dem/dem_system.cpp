@@ -15,6 +15,7 @@ std::size_t DemParticles<D>::push_owned(std::int64_t id, std::int32_t fiber_id, 
                                         double r, double density, double thickness) {
   const std::size_t i = size();
   resize(i + 1);
+  zero_particle(i);  // at rest, no forces, empty slots
   gid[i] = id;
   fiber[i] = fiber_id;
   fixed[i] = kFree;
@@ -27,18 +28,7 @@ std::size_t DemParticles<D>::push_owned(std::int64_t id, std::int32_t fiber_id, 
     inertia[i] = 0.4 * mass[i] * r * r;  // solid sphere
   }
   x[i] = pos;
-  v[i].setZero();
-  omega[i].setZero();
-  force[i].setZero();
-  torque[i].setZero();
-  f_ext[i].setZero();
-  drag_coeff[i] = 0;
-  drag_velocity[i].setZero();
-  drag_force[i].setZero();
-  drag_impulse[i].setZero();
-  bonds[i] = BondSlots<D>{};
-  contacts[i] = ContactSlots<D>{};
-  wall_contacts[i] = WallContactSlots<D>{};
+  void_fraction[i] = 1.0;  // no other particle near
   n_owned = i + 1;
   return i;
 }

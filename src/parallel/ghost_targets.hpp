@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "exchange.hpp"
-#include "pack.hpp"
+#include "ghost_fields.hpp"
 #include "sphdem/decomposition.hpp"
 
 namespace sphdem::detail {
@@ -83,14 +83,12 @@ inline void ghost_targets(const Decomposition<D>& dec, const Vec<D>& x, double r
 
 // Collective. Drops the ghosts of `ps` (SPH or DEM particles) and appends
 // the new ones after the owned particles, ordered by source rank, then by
-// the source's local order, with every field of FieldPolicy.ghost. Fills
-// the plan that the per-step state updates reuse: routes, the owned source
-// of each copy sent (grouped by rank) and its periodic shift (not applied
-// here: the first state update does it).
+// the source's local order, with every kGhost field (positions shifted).
+// Fills the plan that the per-step forward exchanges reuse: routes, the
+// owned source of each copy sent (grouped by rank) and its periodic shift.
 template <int D, class P>
-void build_ghosts(const Decomposition<D>& dec, P& ps, double range, MessageRoute& send,
-                  MessageRoute& recv, std::vector<std::size_t>& send_index,
-                  std::vector<Vec<D>>& send_shift) {
+void build_ghosts(const Decomposition<D>& dec, P& ps, double range, GhostPlan<D>& plan,
+                  std::vector<char>& send_buf, std::vector<char>& recv_buf) {
   ps.clear_ghosts();
   const MPI_Comm comm = dec.comm().raw();
   const auto ranks = static_cast<std::size_t>(dec.comm().size());
@@ -108,30 +106,26 @@ void build_ghosts(const Decomposition<D>& dec, P& ps, double range, MessageRoute
       ++counts[static_cast<std::size_t>(t.rank)];
     }
   }
-  send = route_from_counts(counts);
-  recv = route_from_counts(transpose_counts(comm, counts));
+  plan.send = route_from_counts(counts);
+  plan.recv = route_from_counts(transpose_counts(comm, counts));
+  plan.recv_slot.clear();
   std::vector<std::size_t> next(ranks + 1, 0);
   for (std::size_t r = 0; r < ranks; ++r)
     next[r + 1] = next[r] + static_cast<std::size_t>(counts[r]);
-  send_index.assign(copies.size(), 0);
-  send_shift.assign(copies.size(), Vec<D>::Zero());
+  plan.send_index.assign(copies.size(), 0);
+  plan.send_shift.assign(copies.size(), Vec<D>::Zero());
   for (std::size_t k = 0; k < copies.size(); ++k) {
     const std::size_t at = next[static_cast<std::size_t>(copies[k].first)]++;
-    send_index[at] = copies[k].second;
-    send_shift[at] = shifts[k];
+    plan.send_index[at] = copies[k].second;
+    plan.send_shift[at] = shifts[k];
   }
 
   // Every ghost field once (the constants are never sent again).
-  const auto want = [](FieldPolicy p) { return p.ghost; };
-  std::vector<char> out;
-  pack_records(ps, send_index, want, out);
-  const std::size_t rec = record_bytes(ps, want);
-  std::vector<char> in(recv.total() * rec);
-  exchange(comm, send, out.data(), recv, in.data(), MPI_BYTE, rec);
   const std::size_t n_own = ps.n_owned;
-  ps.resize(n_own + recv.total());
-  unpack_records(ps, n_own, recv.total(), want, in.data());
+  ps.resize(n_own + plan.recv.total());
   ps.n_owned = n_own;
+  send_fields(
+      comm, plan, ps, [](FieldPolicy p) { return p.ghost; }, send_buf, recv_buf);
 }
 
 }  // namespace sphdem::detail

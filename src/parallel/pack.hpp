@@ -1,23 +1,15 @@
 #pragma once
-// Particle records for migration and the halo build: the fields a policy
-// selects (FieldPolicy.migrate or .ghost), in registry order, one particle
-// after another. Driven by the container's for_each_field (SPH or DEM), so a new field
-// travels as soon as it is registered with the right policy.
+// Particle records for migration: the fields a policy selects
+// (FieldPolicy.migrate), in registry order, one particle after another
+// (record_bytes: field_registry.hpp). Driven by the container's
+// for_each_field (SPH or DEM), so a new field travels as soon as it is
+// registered with the right policy.
 #include <cstring>
 #include <vector>
 
 #include "sphdem/particles.hpp"
 
 namespace sphdem::detail {
-
-template <class P, class Want>
-std::size_t record_bytes(P& ps, Want want) {
-  std::size_t bytes = 0;
-  ps.for_each_field([&](const char*, auto& field, FieldPolicy p) {
-    if (want(p)) bytes += sizeof(typename std::decay_t<decltype(field)>::value_type);
-  });
-  return bytes;
-}
 
 // Appends the records of particles idx[0..n) to `out`.
 template <class P, class Want>

@@ -116,8 +116,10 @@ void add_halo(const CellGrid<D>& grid, const CellLoad& load, const std::vector<i
       s.ghost_fraction_max = std::max(
           s.ghost_fraction_max, static_cast<double>(h.ghosts[r]) / static_cast<double>(owned[r]));
     }
-    const double bytes = 8.0 * (state_doubles(D) * static_cast<double>(h.ghosts[r]) +
-                                wall_state_doubles(D) * static_cast<double>(h.wall_ghosts[r]));
+    const double bytes =
+        static_cast<double>(forward_bytes(D, SphGroup::State)) * static_cast<double>(h.ghosts[r]) +
+        static_cast<double>(forward_bytes(D, SphGroup::WallState)) *
+            static_cast<double>(h.wall_ghosts[r]);
     s.halo_bytes_max = std::max(s.halo_bytes_max, bytes);
     bytes_sum += bytes;
     s.neighbors_max = std::max(s.neighbors_max, h.partners[r]);
@@ -171,7 +173,16 @@ PartitionReport report(const Case& c, const std::vector<int>& ranks) {
   return r;
 }
 
+template <int D>
+std::size_t group_bytes(SphGroup group) {
+  return record_bytes(SphParticles<D>(), [group](FieldPolicy p) { return p.in(group_bit(group)); });
+}
+
 }  // namespace
+
+std::size_t forward_bytes(int dim, SphGroup group) {
+  return dim == 2 ? group_bytes<2>(group) : group_bytes<3>(group);
+}
 
 PartitionReport partition_report(const Case& c, const std::vector<int>& ranks) {
   return c.dimension == 2 ? report<2>(c, ranks) : report<3>(c, ranks);
@@ -184,9 +195,9 @@ std::string format_partition_table(const PartitionReport& r) {
   std::string out = fmt::format(
       "case '{}' ({}D): {} resin + {} wall particles, spacing {:.4g} m\n"
       "cell grid {} (cells >= cut-off {:.4g} m), {} non-empty cells; set-up {:.2f} s\n"
-      "halo per step: {} B per ghost + {} B per wall ghost (update_state, update_wall_state)\n\n",
+      "halo per step: {} B per ghost + {} B per wall ghost (forward State, WallState)\n\n",
       r.case_name, d, r.fluid, r.wall, r.spacing, dims, r.cutoff, r.nonempty_cells, r.setup_seconds,
-      8 * state_doubles(d), 8 * wall_state_doubles(d));
+      forward_bytes(d, SphGroup::State), forward_bytes(d, SphGroup::WallState));
   out += fmt::format("{:>6} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9}\n", "ranks",
                      "particles", "imbalance", "ghosts/", "max", "halo kB", "halo kB", "neighbors",
                      "neighbors", "METIS");

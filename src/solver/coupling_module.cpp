@@ -27,14 +27,13 @@ void CouplingModule<D>::rates() {
   DemDomain<D>& domain = fibers_.dem();
   DemParticles<D>& dem = domain.particles();
   drag_on_fibers<D>(coupling_, ps, dem, cstate_, fibers_.coupled_dt());
-  domain.update_coupling(cstate_.mean_drag, cstate_.shepard_sum);
-  const Vec<D> reaction =
-      reaction_on_resin<D>(coupling_, dem, cstate_.mean_drag, cstate_.shepard_sum, ps, resin_eps_);
+  domain.forward(DemGroup::Coupling);
+  const Vec<D> reaction = reaction_on_resin<D>(coupling_, dem, ps, resin_eps_);
   // Diagnostics: total drag + total reaction, which must vanish.
   std::vector<double> sums(2 * D + 1, 0.0);
   for (std::size_t f = 0; f < dem.n_owned; ++f) {
-    for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(k)] += cstate_.mean_drag[f][k];
-    sums[2 * D] += cstate_.mean_drag[f].norm();
+    for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(k)] += dem.mean_drag[f][k];
+    sums[2 * D] += dem.mean_drag[f].norm();
   }
   for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(D + k)] = reaction[k];
   ctx_.comm.sum(sums);

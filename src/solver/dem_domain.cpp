@@ -69,7 +69,7 @@ void DemDomain<D>::advance(std::int64_t n, double dt) {
       rebuild();
     } else {
       const dem_detail::DemTimer t_halo(dem_detail::dem_profile().halo);
-      halo_.update_state(ps_);
+      halo_.forward(ps_, DemGroup::State);
     }
     dem_force_kick(params_, dt, walls_, ps_, ws_);
   }

@@ -158,7 +158,7 @@ void FiberModule<D>::substep(double dt) {
   substeps_ = static_cast<std::int64_t>(std::ceil(dt / dem_dt_ * (1 - 1e-12)));
   substeps_ = std::max<std::int64_t>(substeps_, 1);
   dem_->advance(substeps_, dt / static_cast<double>(substeps_));
-  dem_->update_ghosts();
+  dem_->forward(DemGroup::State);
   coupled_dt_ = dt;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// Packs DEM particles for the snapshot writer: set "dem" (position,
-// velocity, angular_velocity, radius, fiber) with its bonds as line cells
+// Packs DEM particles for the snapshot writer: set "dem" (position, the
+// registry's output fields - velocity, angular_velocity, radius, fiber -
+// and fiber_direction) with its bonds as line cells
 // (bond_tensile_stress, bond_shear_stress, broken, fiber, fiber_direction).
 // Each rank passes its owned particles and the bonds they own; a bond's
 // line id is its bond id. The fiber direction is the sum of the fiber's
@@ -11,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "snapshot_fields.hpp"
 #include "sphdem/comm.hpp"
 #include "sphdem/dem_particles.hpp"
 #include "sphdem/io.hpp"
@@ -25,17 +27,17 @@ class DemSnapshotBuffers {
   // (DemDomain::store_state).
   DemSnapshotBuffers(const DemParticles<D>& ps, const Comm& comm) {
     const std::vector<Vec<D>> dir = fiber_directions(ps, comm);
+    std::vector<std::size_t> owned(ps.n_owned);
     for (std::size_t i = 0; i < ps.n_owned; ++i) {
+      owned[i] = i;
       id_.push_back(ps.gid[i]);
-      for (int k = 0; k < D; ++k) {
-        position_.push_back(ps.x[i][k]);
-        velocity_.push_back(ps.v[i][k]);
-      }
-      for (int k = 0; k < (D == 2 ? 1 : 3); ++k) omega_.push_back(ps.omega[i][k]);
-      radius_.push_back(ps.radius[i]);
-      fiber_.push_back(static_cast<double>(ps.fiber[i]));
-      for (int k = 0; k < D; ++k) point_direction_.push_back(direction_of(dir, ps.fiber[i])[k]);
+      for (int k = 0; k < D; ++k) position_.push_back(ps.x[i][k]);
     }
+    fields_ = registry_output_fields(ps, owned, [](const char*) { return true; });
+    OutputField direction{"fiber_direction", "1", D, {}};
+    for (std::size_t i = 0; i < ps.n_owned; ++i)
+      for (int k = 0; k < D; ++k) direction.data.push_back(direction_of(dir, ps.fiber[i])[k]);
+    fields_.push_back(std::move(direction));
     pack_bonds(ps, dir);
   }
 
@@ -46,15 +48,8 @@ class DemSnapshotBuffers {
     v.id = id_.data();
     v.dimension = D;
     v.position = position_.data();
-    v.fields = {{"velocity", "m/s", D, velocity_.data()},
-                {"radius", "m", 1, radius_.data()},
-                {"fiber", "1", 1, fiber_.data()},
-                {"fiber_direction", "1", D, point_direction_.data()}};
-    if constexpr (D == 2) {
-      v.fields.push_back({"angular_velocity", "rad/s", 1, omega_.data()});
-    } else {
-      v.fields.push_back({"angular_velocity", "rad/s", 3, omega_.data()});
-    }
+    for (const OutputField& f : fields_)
+      v.fields.push_back({f.name, f.units, f.components, f.data.data()});
     v.has_lines = true;
     v.lines.n_local = line_id_.size();
     v.lines.id = line_id_.data();
@@ -131,7 +126,8 @@ class DemSnapshotBuffers {
   }
 
   std::vector<std::int64_t> id_, line_id_, nodes_;
-  std::vector<double> position_, velocity_, omega_, radius_, fiber_, point_direction_;
+  std::vector<double> position_;
+  std::vector<OutputField> fields_;  // per particle
   std::vector<double> sigma_, tau_, broken_, line_fiber_, direction_;
 };
 

@@ -133,7 +133,7 @@ template <int D>
 void ResinModule<D>::rates() {
   {
     ScopedPhase t(timers_, Phase::Halo);
-    halo_.update_state(ps_);
+    halo_.forward(ps_, SphGroup::State);
   }
   compute_fluid_pressure<D>(eos_, ps_);
   const double time = ctx_.clock.time;
@@ -146,7 +146,7 @@ void ResinModule<D>::rates() {
   update_wall_controllers(walls_, face_means(face), ctx_.clock.dt.dt);
   {
     ScopedPhase t(timers_, Phase::Halo);
-    halo_.update_wall_state(ps_);
+    halo_.forward(ps_, SphGroup::WallState);
   }
   compute_fluid_rates<D>(sp_, nl_, ps_);
 }
@@ -275,12 +275,6 @@ template <int D>
 const std::vector<double>& Simulation<D>::resin_void_fraction() const {
   static const std::vector<double> none;
   return this->coupling() ? this->coupling()->resin_void_fraction() : none;
-}
-
-template <int D>
-const CouplingState<D>& Simulation<D>::coupling_state() const {
-  static const CouplingState<D> none;
-  return this->coupling() ? this->coupling()->state() : none;
 }
 
 template class Simulation<2>;

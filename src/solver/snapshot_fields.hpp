@@ -1,14 +1,54 @@
 #pragma once
-// Packs the owned particles of each kind into contiguous arrays for the
-// snapshot writer: set "fluid" (resin) and set "wall".
+// The snapshot fields of the particle containers, read from the field
+// registry (field_registry.hpp): every field with an output name
+// (output_as) can be written, as doubles, under that name and unit. The
+// resin's owned particles go into set "fluid" (resin) and set "wall", with
+// the fields `output.fields` names.
 #include <algorithm>
+#include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "sphdem/io.hpp"
 #include "sphdem/particles.hpp"
 
 namespace sphdem {
+
+// One dataset of a particle set: components doubles per particle.
+struct OutputField {
+  std::string name, units;
+  int components = 1;
+  std::vector<double> data;
+};
+
+// The registry fields of `ps` with an output name that `wanted(name)`
+// accepts, at particles idx, in registry order.
+template <class P, class Wanted>
+std::vector<OutputField> registry_output_fields(const P& ps, const std::vector<std::size_t>& idx,
+                                                Wanted wanted) {
+  std::vector<OutputField> out;
+  ps.for_each_field([&](const char* name, const auto& field, FieldPolicy p) {
+    if (!p.output || !wanted(p.output)) return;
+    using T = typename std::decay_t<decltype(field)>::value_type;
+    OutputField f{p.output, p.unit ? p.unit : "1", 1, {}};
+    if constexpr (IsDoubleVector<T>::value) {
+      f.components = T::SizeAtCompileTime;
+      for (std::size_t i : idx)
+        for (int k = 0; k < f.components; ++k) f.data.push_back(field[i][k]);
+    } else if constexpr (std::is_enum_v<T>) {
+      for (std::size_t i : idx)
+        f.data.push_back(static_cast<double>(static_cast<std::underlying_type_t<T>>(field[i])));
+    } else if constexpr (std::is_arithmetic_v<T>) {
+      for (std::size_t i : idx) f.data.push_back(static_cast<double>(field[i]));
+    } else {
+      throw std::logic_error(std::string("sphdem: field '") + name +
+                             "' has an output name but is not a number or a vector");
+    }
+    out.push_back(std::move(f));
+  });
+  return out;
+}
 
 template <int D>
 class SnapshotBuffers {
@@ -25,7 +65,7 @@ class SnapshotBuffers {
       v.id = s.id.data();
       v.dimension = D;
       v.position = s.position.data();
-      for (const Field& f : s.fields)
+      for (const OutputField& f : s.fields)
         v.fields.push_back({f.name, f.units, f.components, f.data.data()});
       out.push_back(std::move(v));
     }
@@ -33,21 +73,12 @@ class SnapshotBuffers {
   }
 
  private:
-  struct Field {
-    std::string name, units;
-    int components;
-    std::vector<double> data;
-  };
   struct Set {
     std::string name;
     std::vector<std::int64_t> id;
     std::vector<double> position;
-    std::vector<Field> fields;
+    std::vector<OutputField> fields;
   };
-
-  static bool wanted(const std::vector<std::string>& f, const char* name) {
-    return std::find(f.begin(), f.end(), name) != f.end();
-  }
 
   static Set pack(const SphParticles<D>& ps, Kind kind, const char* name,
                   const std::vector<std::string>& wanted_fields) {
@@ -60,27 +91,9 @@ class SnapshotBuffers {
       s.id.push_back(ps.gid[i]);
       for (int k = 0; k < D; ++k) s.position.push_back(ps.x[i][k]);
     }
-    auto vector_field = [&](const char* fname, const char* units, const std::vector<Vec<D>>& src) {
-      Field f{fname, units, D, {}};
-      for (std::size_t i : idx)
-        for (int k = 0; k < D; ++k) f.data.push_back(src[i][k]);
-      s.fields.push_back(std::move(f));
-    };
-    auto scalar_field = [&](const char* fname, const char* units, auto&& get) {
-      Field f{fname, units, 1, {}};
-      for (std::size_t i : idx) f.data.push_back(get(i));
-      s.fields.push_back(std::move(f));
-    };
-    if (wanted(wanted_fields, "velocity")) vector_field("velocity", "m/s", ps.v);
-    if (wanted(wanted_fields, "density"))
-      scalar_field("density", "kg/m^3", [&](std::size_t i) { return ps.rho[i]; });
-    if (wanted(wanted_fields, "pressure"))
-      scalar_field("pressure", "Pa", [&](std::size_t i) { return ps.p[i]; });
-    if (wanted(wanted_fields, "acceleration")) vector_field("acceleration", "m/s^2", ps.a);
-    if (wanted(wanted_fields, "kind"))
-      scalar_field("kind", "1", [&](std::size_t i) { return static_cast<double>(ps.kind[i]); });
-    if (wanted(wanted_fields, "wall_id"))
-      scalar_field("wall_id", "1", [&](std::size_t i) { return static_cast<double>(ps.wall[i]); });
+    s.fields = registry_output_fields(ps, idx, [&](const char* field) {
+      return std::find(wanted_fields.begin(), wanted_fields.end(), field) != wanted_fields.end();
+    });
     return s;
   }
 

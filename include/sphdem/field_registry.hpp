@@ -1,0 +1,155 @@
+#pragma once
+// The field registry of the particle containers (SphParticles, DemParticles;
+// docs/architecture.md, "Adding a field"). A container lists its
+// per-particle fields once, one line each,
+//   X(type, member, policy)
+// and SPHDEM_FIELD_REGISTRY(LIST) makes of the list the members
+// (std::vector<type> member) and for_each_field(f), which calls
+// f("member", vector, policy) in list order. Everything that handles
+// particles generically reads the policy: the halo build and its per-step
+// forward(group), migration, checkpoints, snapshots and the partition
+// report's byte counts. The list order is the record order of migration and
+// halo messages and the column order of checkpoints.
+//
+// A policy combines flags with `|`:
+//   kGhost           copied to the ghosts when the halo is built
+//   in_group(G)      refreshed on the ghosts by the halo's forward(G), one of
+//                    the container's per-step exchange groups
+//   kShifted         a position: a copy across a periodic face gains the period
+//   kMigrate         travels with a particle that changes rank
+//   kCheckpoint      part of the restartable state
+//   output_as(n, u)  can be written to snapshots as dataset n, unit u
+//   kLocal           none of these: scratch of the rank that owns it
+#include <Eigen/Core>
+#include <cstdint>
+#include <type_traits>
+#include <vector>
+
+namespace sphdem {
+
+// What happens to one field (see above).
+struct FieldPolicy {
+  bool ghost = false;
+  bool migrate = false;
+  bool checkpoint = false;
+  bool shifted = false;
+  std::uint32_t groups = 0;      // bit g: refreshed by forward(group g)
+  const char* output = nullptr;  // dataset name; null: never written
+  const char* unit = nullptr;    // unit of the dataset (in the XDMF)
+
+  constexpr bool in(std::uint32_t group_bits) const { return (groups & group_bits) != 0; }
+};
+
+constexpr FieldPolicy operator|(FieldPolicy a, const FieldPolicy& b) {
+  a.ghost = a.ghost || b.ghost;
+  a.migrate = a.migrate || b.migrate;
+  a.checkpoint = a.checkpoint || b.checkpoint;
+  a.shifted = a.shifted || b.shifted;
+  a.groups |= b.groups;
+  if (b.output) a.output = b.output;
+  if (b.unit) a.unit = b.unit;
+  return a;
+}
+
+inline constexpr FieldPolicy kGhost{.ghost = true};
+inline constexpr FieldPolicy kMigrate{.migrate = true};
+inline constexpr FieldPolicy kCheckpoint{.checkpoint = true};
+inline constexpr FieldPolicy kShifted{.shifted = true};
+inline constexpr FieldPolicy kLocal{};  // none of the above: only its rank sees it
+
+// The bit of an exchange group (an enum class of the container: SphGroup,
+// DemGroup).
+template <class Group>
+constexpr std::uint32_t group_bit(Group g) {
+  return std::uint32_t{1} << static_cast<unsigned>(g);
+}
+
+template <class Group>
+constexpr FieldPolicy in_group(Group g) {
+  return FieldPolicy{.groups = group_bit(g)};
+}
+
+constexpr FieldPolicy output_as(const char* name, const char* unit) {
+  return FieldPolicy{.output = name, .unit = unit};
+}
+
+// Eigen fixed-size vectors of doubles (positions, velocities, spins).
+template <class T, class = void>
+struct IsDoubleVector : std::false_type {};
+template <class T>
+struct IsDoubleVector<T, std::void_t<typename T::Scalar, decltype(T::SizeAtCompileTime)>>
+    : std::bool_constant<std::is_same_v<typename T::Scalar, double> && (T::SizeAtCompileTime > 0) &&
+                         sizeof(T) == sizeof(double) * T::SizeAtCompileTime> {};
+
+// The zero of a field's type (Eigen's default constructor leaves vectors
+// uninitialised).
+template <class T>
+T zero_value() {
+  if constexpr (IsDoubleVector<T>::value) {
+    return T::Zero();
+  } else {
+    return T{};
+  }
+}
+
+// Bytes per particle of the fields `want` (a test on the policy) selects:
+// one record of a migration or halo message.
+template <class P, class Want>
+std::size_t record_bytes(const P& ps, Want want) {
+  std::size_t bytes = 0;
+  ps.for_each_field([&](const char*, const auto& field, FieldPolicy p) {
+    if (want(p)) bytes += sizeof(typename std::decay_t<decltype(field)>::value_type);
+  });
+  return bytes;
+}
+
+// Reorders the first order.size() particles of any registry container
+// (SPH or DEM): new slot k holds old particle order[k].
+template <class P>
+void permute_owned_fields(P& ps, const std::vector<std::size_t>& order) {
+  ps.for_each_field([&](const char*, auto& field, FieldPolicy) {
+    using Field = std::decay_t<decltype(field)>;
+    Field tmp(field.size());
+    for (std::size_t k = 0; k < order.size(); ++k) tmp[k] = field[order[k]];
+    for (std::size_t k = order.size(); k < field.size(); ++k) tmp[k] = field[k];
+    field.swap(tmp);
+  });
+}
+
+}  // namespace sphdem
+
+// Expanded inside a container by SPHDEM_FIELD_REGISTRY (the `policy`
+// argument is an expression of the flags above).
+#define SPHDEM_FIELD_MEMBER(type, member, policy) std::vector<type> member;
+#define SPHDEM_FIELD_VISIT(type, member, policy) f(#member, self.member, (policy));
+
+// The members of the list and the registry functions over them:
+// for_each_field (const and not), resize, copy_particle (every field of
+// slot src onto slot dst) and zero_particle (every field of slot i zero).
+#define SPHDEM_FIELD_REGISTRY(LIST)                                                            \
+  LIST(SPHDEM_FIELD_MEMBER)                                                                    \
+  template <class Self, class F>                                                               \
+  static void visit_fields(Self& self, F& f) {                                                 \
+    LIST(SPHDEM_FIELD_VISIT)                                                                   \
+  }                                                                                            \
+  template <class F>                                                                           \
+  void for_each_field(F&& f) {                                                                 \
+    visit_fields(*this, f);                                                                    \
+  }                                                                                            \
+  template <class F>                                                                           \
+  void for_each_field(F&& f) const {                                                           \
+    visit_fields(*this, f);                                                                    \
+  }                                                                                            \
+  void resize(std::size_t n) {                                                                 \
+    for_each_field([n](const char*, auto& field, ::sphdem::FieldPolicy) { field.resize(n); }); \
+  }                                                                                            \
+  void copy_particle(std::size_t dst, std::size_t src) {                                       \
+    for_each_field(                                                                            \
+        [=](const char*, auto& field, ::sphdem::FieldPolicy) { field[dst] = field[src]; });    \
+  }                                                                                            \
+  void zero_particle(std::size_t i) {                                                          \
+    for_each_field([i](const char*, auto& field, ::sphdem::FieldPolicy) {                      \
+      using T = typename std::decay_t<decltype(field)>::value_type;                            \
+      field[i] = ::sphdem::zero_value<T>();                                                    \
+    });                                                                                        \
+  }
