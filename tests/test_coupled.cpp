@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <numeric>
 #include <string>
 #include <string_view>
@@ -155,7 +156,10 @@ TEST(Coupled, FiberRelaxation) {
 }
 
 // Momentum: the drags on the fibers and the reactions on the resin cancel
-// at every step, to round-off.
+// at every step, to round-off. The residual is 0 when there is no drag, so
+// the drag must be a sizeable fraction of the fibers' weight at every step;
+// on several ranks, fibers must sit near a rank border (their drag and its
+// reaction then involve particles of two ranks).
 TEST(Coupled, MomentumBalanceEveryStep) {
   const Case c = load_case_from_string(
       box_case("  count: 12\n  region: {box: {min: [0.002, 0.002], max: [0.010, 0.010]}}\n",
@@ -163,13 +167,31 @@ TEST(Coupled, MomentumBalanceEveryStep) {
       "momentum.yaml");
   const Comm world;
   Simulation<2> sim(c, world, quiet());
-  double worst = 0;
+  const DemParticles<2>& fibers = sim.dem()->particles();
+  double weight = 0;
+  for (std::size_t f = 0; f < fibers.n_owned; ++f) weight += fibers.mass[f] * 500;
+  weight = world.sum(weight);
+  double worst = 0, weakest = std::numeric_limits<double>::infinity();
+  std::int64_t ghost_fibers = 0;
   for (int s = 0; s < 300; ++s) {
     sim.advance(1);
     worst = std::max(worst, sim.coupling_momentum_residual());
+    double drag = 0;
+    for (std::size_t f = 0; f < fibers.n_owned; ++f)
+      drag += sim.coupling_state().mean_drag[f].norm();
+    weakest = std::min(weakest, world.sum(drag));
+    ghost_fibers += static_cast<std::int64_t>(fibers.size() - fibers.n_owned);
   }
+  ghost_fibers = world.sum(ghost_fibers);
+  if (world.root())
+    std::printf("weakest total drag %.3g N (fibers' weight %.3g N), %lld ghost fiber samples\n",
+                weakest, weight, static_cast<long long>(ghost_fibers));
   EXPECT_LT(worst, 1e-12);
+  EXPECT_GT(weakest, 0.01 * weight) << "a step with (almost) no drag balances trivially";
   EXPECT_GT(sim.dem_substeps(), 0);
+  if (world.size() > 1) {
+    EXPECT_GT(ghost_fibers, 0) << "no fiber near a rank border";
+  }
 }
 
 }  // namespace

@@ -145,10 +145,11 @@ void DemRun<D>::check_health() const {
   const int bad = static_cast<int>(
       comm_.min(static_cast<std::int64_t>(error.empty() ? comm_.size() : comm_.rank())));
   if (bad < comm_.size()) {
-    throw SimulationError(bad == comm_.rank() ? error
-                                              : fmt::format("step {}: a DEM particle on rank {} "
-                                                            "left the mold",
-                                                            step_, bad));
+    throw CollectiveSimulationError(bad == comm_.rank()
+                                        ? error
+                                        : fmt::format("step {}: a DEM particle on rank {} "
+                                                      "left the mold",
+                                                      step_, bad));
   }
 }
 

@@ -11,6 +11,7 @@
 
 #include "sphdem/checkpoint.hpp"
 #include "sphdem/errors.hpp"
+#include "sphdem/fault.hpp"
 #include "sphdem/output_cadence.hpp"
 #include "sphdem/solver.hpp"
 
@@ -27,6 +28,7 @@ RunSummary drive_run(Driver& d, std::int64_t particles, Checks checks) {
   const double end = d.case_.numerics.end_time;
   const std::int64_t step0 = d.step_;
   const bool output = d.opt_.write_output;
+  set_current_step(d.step_);
   // A restart continues the series: its first state is already on disk.
   if (output && !d.restarted_) d.write_snapshot();
   OutputCadence cadence = resumed_output_cadence(d.case_.output, d.time_);
@@ -34,7 +36,9 @@ RunSummary drive_run(Driver& d, std::int64_t particles, Checks checks) {
   bool stopped = false;
   try {
     while (d.time_ < end * (1 - 1e-12) && (!d.opt_.max_steps || d.step_ < *d.opt_.max_steps)) {
+      set_current_step(d.step_ + 1);
       d.do_step();
+      inject_step_fault(d.comm_.rank(), d.step_);  // tests only (fault.hpp)
       checks(false);
       d.report_progress(elapsed(), d.step_ - step0, false);
       if (cadence.due(d.step_, d.time_) && output) d.write_snapshot();
@@ -49,12 +53,18 @@ RunSummary drive_run(Driver& d, std::int64_t particles, Checks checks) {
       }
     }
     checks(true);
-  } catch (const SimulationError&) {
+  } catch (const SimulationError& e) {
+    // Writing the last state is collective: only when every rank failed
+    // (with one rank, always). A one-rank failure goes on to the app's fault
+    // handler, which aborts the job (docs/architecture.md, "Errors").
+    const bool collective = dynamic_cast<const CollectiveSimulationError*>(&e) != nullptr;
+    if (!collective && d.comm_.size() > 1) throw;
     if (output) {
       const std::string last = d.write_snapshot();
       if (d.opt_.log && d.comm_.root()) *d.opt_.log << "last state written to " << last << "\n";
     }
-    throw;
+    if (collective) throw;
+    throw CollectiveSimulationError(e.what());
   }
   // The final state is always on disk, whatever the cadence (after a stop
   // request, in the checkpoint: a snapshot off the cadence would not be in

@@ -233,7 +233,7 @@ void Simulation<D>::do_step() {
     a_max = comm_.max(ex.a_max);
   }
   if (!std::isfinite(v_max) || !std::isfinite(a_max)) {
-    throw SimulationError(
+    throw CollectiveSimulationError(
         fmt::format("the resin blew up at step {} (t = {:.6g} s): a velocity "
                     "or acceleration is not finite",
                     step_, time_));
@@ -323,8 +323,9 @@ void Simulation<D>::check_health() const {
     any_bad = comm_.any(bad);
   }
   if (any_bad) {
-    throw SimulationError(fmt::format("step {} (t = {:.6g} s): {}", step_, time_,
-                                      what.empty() ? "a particle on another rank failed" : what));
+    throw CollectiveSimulationError(
+        fmt::format("step {} (t = {:.6g} s): {}", step_, time_,
+                    what.empty() ? "a particle on another rank failed" : what));
   }
 }
 
