@@ -110,8 +110,8 @@ elif scenario == "dem":
 elif scenario == "input":
     code, out, err, _ = run(["run", POISEUILLE, "-q", "-o", "out", *ENDLESS], fault="1:0:input")
     expect(code == 2, "exit status 2 (got %s)" % code)
-    expect(err.count("sphdem: error:") == 1 and "rank 1 could not load it" in err
-           and "fault injected on rank 1" in err, "the cause printed once, by rank 0")
+    expect(err.count("sphdem: error:") == 1 and "on rank 1: " in err
+           and "fault injected" in err, "the cause printed once, by rank 0")
     expect(not os.path.exists(os.path.join(work, "out")), "nothing written")
 elif scenario == "blowup":
     blow = os.path.join(work, "blowup.yaml")

@@ -69,7 +69,7 @@ Case load_case_on_every_rank(const Comm& comm, const RunArgs& a) {
     }
   }
   throw InputError(a.case_file, 0, "",
-                   fmt::format("rank {} could not load it: {}", failed->rank, failed->message));
+                   fmt::format("on rank {}: {}", failed->rank, failed->message));
 }
 
 // Measured one-rank resin throughput (docs/performance.md), used only for

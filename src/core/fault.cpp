@@ -75,8 +75,7 @@ bool fault_due(FaultKind kind, int rank, std::int64_t step) {
 
 void inject_load_fault(int rank, const char* case_file) {
   if (fault_due(FaultKind::Input, rank, 0))
-    throw InputError(case_file, 0, "",
-                     fmt::format("fault injected on rank {} ({})", rank, kVariable));
+    throw InputError(case_file, 0, "", fmt::format("fault injected ({})", kVariable));
 }
 
 void inject_step_fault(int rank, std::int64_t step) {
