@@ -187,7 +187,7 @@ TEST(Coupled, MomentumBalanceEveryStep) {
     std::printf("weakest total drag %.3g N (fibers' weight %.3g N), %lld ghost fiber samples\n",
                 weakest, weight, static_cast<long long>(ghost_fibers));
   EXPECT_LT(worst, 1e-12);
-  EXPECT_GT(weakest, 0.01 * weight) << "a step with (almost) no drag balances trivially";
+  EXPECT_GT(weakest, 0.1 * weight) << "a step with (almost) no drag balances trivially";
   EXPECT_GT(sim.dem_substeps(), 0);
   if (world.size() > 1) {
     EXPECT_GT(ghost_fibers, 0) << "no fiber near a rank border";

@@ -203,10 +203,13 @@ Case load(const std::string& input, std::vector<std::string> sets) {
 // ----------------------------------------- 1 rank vs N ranks, bitwise
 
 // Periodic images cross ranks and come back to the same rank; the body
-// force is raised 50x (still laminar, Mach 0.06) so that the resin moves,
-// rebuilds and migrates within the 500 steps.
+// force is raised 50x (still laminar, Mach 0.06) so that the resin moves
+// and the lists are rebuilt (positions wrap) within the 500 steps. It moves
+// about two spacings: some of it migrates at 3 and 4 ranks, none at 2 (the
+// other tests migrate at every rank count).
 TEST(RankIndependence, PeriodicPoiseuille) {
-  expect_rank_independent<2>(load("validation/poiseuille.yaml", {"body_force=[5.0e-3, 0]"}), 500);
+  expect_rank_independent<2>(load("validation/poiseuille.yaml", {"body_force=[5.0e-3, 0]"}), 500,
+                             /*expect_migration=*/false);
 }
 
 // A free surface with re-partitioning forced at every chance: the partition
