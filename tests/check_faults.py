@@ -15,7 +15,8 @@ run (end_time 1000 s), so that a hang shows up as a timeout:
                exit 3
   blowup       a collective failure (the resin blows up, both ranks see
                it): exit 3, the last state written, no abort
-  bad_input    a bad key on both ranks: exit 2, printed once
+  bad_input    a bad key on both ranks: exit 2, printed once; the same for
+               a malformed SPHDEM_INJECT_FAULT
   one_rank     the injected SimulationError on a 1-rank run: with one rank
                every failure is collective, so exit 3 with the last state
 
@@ -145,6 +146,9 @@ elif scenario == "bad_input":
     expect(err.count("sphdem: error:") == 1 and "resin.densty" in err, "printed once, with the key")
     expect("MPI_ABORT" not in err, "no abort")
     expect(not os.path.exists(os.path.join(work, "out")), "nothing written")
+    code, out, err, _ = run(["run", POISEUILLE, "-o", "out2"], fault="1:five:simulation")
+    expect(code == 2 and err.count("SPHDEM_INJECT_FAULT: '1:five:simulation'") == 1,
+           "a malformed SPHDEM_INJECT_FAULT is bad input (exit 2, printed once)")
 elif scenario == "one_rank":
     code, out, err, _ = run(["run", POISEUILLE, "-o", "out", *ENDLESS], ranks=1,
                             fault="0:5:simulation")

@@ -25,6 +25,7 @@
 #include <fstream>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
@@ -32,6 +33,7 @@
 
 #include "../src/parallel/decomposition.hpp"
 #include "mpi_test_helpers.hpp"
+#include "sphdem/agreement.hpp"
 #include "sphdem/config.hpp"
 #include "sphdem/decomposition.hpp"
 #include "sphdem/ordered_sum.hpp"
@@ -485,6 +487,29 @@ TEST(OrderedSum, SameBitsAtEveryRankCount) {
     EXPECT_EQ(sums[static_cast<std::size_t>(k)].sum, serial[k]);
     EXPECT_EQ(sums[static_cast<std::size_t>(k)].count, count[k]);
   }
+}
+
+// The agreement after a phase each rank runs alone (loading the case
+// file): every rank learns the lowest failing rank and its message.
+TEST(Agreement, FirstFailureReachesEveryRank) {
+  const Comm world;
+  EXPECT_FALSE(first_failure(world, std::nullopt).has_value());
+  const int last = world.size() - 1;
+  const std::optional<std::string> mine =
+      world.rank() == last ? std::optional<std::string>("rank " + std::to_string(last) + " failed")
+                           : std::nullopt;
+  const std::optional<RankFailure> f = first_failure(world, mine);
+  ASSERT_TRUE(f.has_value());
+  EXPECT_EQ(f->rank, last);
+  EXPECT_EQ(f->message, "rank " + std::to_string(last) + " failed");
+  // Several fail: the lowest one speaks for all.
+  const std::optional<RankFailure> g =
+      first_failure(world, world.rank() > 0 || world.size() == 1
+                               ? std::optional<std::string>("from " + std::to_string(world.rank()))
+                               : std::nullopt);
+  ASSERT_TRUE(g.has_value());
+  EXPECT_EQ(g->rank, world.size() == 1 ? 0 : 1);
+  EXPECT_EQ(g->message, "from " + std::to_string(g->rank));
 }
 
 }  // namespace
