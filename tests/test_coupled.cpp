@@ -1,8 +1,10 @@
 // Two-way SPH-DEM coupling end to end (issue 5, docs/physics.md
 // "Coupling"): momentum balance of drag and reaction at every step, a
 // particle settling at the drag law's terminal velocity, a fiber taking up
-// the resin's velocity with the drag law's time constant, and a coupled run
-// on N ranks bitwise equal to one rank.
+// the resin's velocity with the drag law's time constant. The two reference
+// solutions run on one rank (MPI_COMM_SELF; tests/dem.cmake runs them at 1
+// rank only), the momentum balance on 1 and 2 ranks. The comparison of N
+// ranks with one is tests/test_coupled_parallel.cpp.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
