@@ -5,5 +5,5 @@ sphdem_test(test_coupling SOURCES test_coupling.cpp RANKS 1 LABELS "unit;couplin
 
 # The coupling in 3D (inputs/validation/coupled_box_3d.yaml): 2 ranks
 # bitwise equal to one, fibers touching the mold's rectangle walls.
-sphdem_test(test_coupled_3d SOURCES test_coupled_3d.cpp RANKS 1 2 LABELS "mpi;coupling"
+sphdem_test(test_coupled_3d SOURCES test_coupled_3d.cpp RANKS 2 LABELS "mpi;coupling"
             TIMEOUT 300)

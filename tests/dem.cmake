@@ -30,13 +30,17 @@ endif()
 sphdem_test(test_case_fibers SOURCES test_case_fibers.cpp RANKS 1 2 LABELS "unit;dem")
 
 # DEM on 1-4 ranks: bitwise the same as one rank (docs/parallel.md).
+# The serial driver's comparison runs at 1 rank only.
 sphdem_test(test_dem_parallel SOURCES test_dem_parallel.cpp RANKS 1 2 3 4 LABELS "mpi;dem"
-            TIMEOUT 300)
+            TIMEOUT 300 MULTI_RANK_TESTS "DemParallel.*AcrossRanks*"
+            ONE_RANK_TESTS "DemParallel.SerialDriverMatchesDomain")
 
 # The SPH-DEM coupling end to end (docs/physics.md "Coupling").
+# The two reference solutions run on one rank; the momentum balance on 1
+# and 2 (the drag and its reaction across ranks).
 sphdem_test(test_coupled SOURCES test_coupled.cpp RANKS 1 2 LABELS "validation;coupling"
-            TIMEOUT 600)
-sphdem_test(test_coupled_parallel SOURCES test_coupled_parallel.cpp RANKS 1 2 3 4
+            TIMEOUT 600 ONE_RANK_TESTS "Coupled.TerminalVelocity:Coupled.FiberRelaxation")
+sphdem_test(test_coupled_parallel SOURCES test_coupled_parallel.cpp RANKS 2 3 4
             LABELS "mpi;coupling" TIMEOUT 600)
 
 # The short paper plate with its 175 fibers, end to end on 2 ranks (5 ms:

@@ -1,8 +1,10 @@
 // Two-way SPH-DEM coupling end to end (issue 5, docs/physics.md
 // "Coupling"): momentum balance of drag and reaction at every step, a
 // particle settling at the drag law's terminal velocity, a fiber taking up
-// the resin's velocity with the drag law's time constant, and a coupled run
-// on N ranks bitwise equal to one rank.
+// the resin's velocity with the drag law's time constant. The two reference
+// solutions run on one rank (MPI_COMM_SELF; tests/dem.cmake runs them at 1
+// rank only), the momentum balance on 1 and 2 ranks. The comparison of N
+// ranks with one is tests/test_coupled_parallel.cpp.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -10,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <numeric>
 #include <string>
 #include <string_view>
@@ -154,7 +157,10 @@ TEST(Coupled, FiberRelaxation) {
 }
 
 // Momentum: the drags on the fibers and the reactions on the resin cancel
-// at every step, to round-off.
+// at every step, to round-off. The residual is 0 when there is no drag, so
+// the drag must be a sizeable fraction of the fibers' weight at every step;
+// on several ranks, fibers must sit near a rank border (their drag and its
+// reaction then involve particles of two ranks).
 TEST(Coupled, MomentumBalanceEveryStep) {
   const Case c = load_case_from_string(
       box_case("  count: 12\n  region: {box: {min: [0.002, 0.002], max: [0.010, 0.010]}}\n",
@@ -162,13 +168,31 @@ TEST(Coupled, MomentumBalanceEveryStep) {
       "momentum.yaml");
   const Comm world;
   Simulation<2> sim(c, world, quiet());
-  double worst = 0;
+  const DemParticles<2>& fibers = sim.dem()->particles();
+  double weight = 0;
+  for (std::size_t f = 0; f < fibers.n_owned; ++f) weight += fibers.mass[f] * 500;
+  weight = world.sum(weight);
+  double worst = 0, weakest = std::numeric_limits<double>::infinity();
+  std::int64_t ghost_fibers = 0;
   for (int s = 0; s < 300; ++s) {
     sim.advance(1);
     worst = std::max(worst, sim.coupling_momentum_residual());
+    double drag = 0;
+    for (std::size_t f = 0; f < fibers.n_owned; ++f)
+      drag += fibers.mean_drag[f].norm();
+    weakest = std::min(weakest, world.sum(drag));
+    ghost_fibers += static_cast<std::int64_t>(fibers.size() - fibers.n_owned);
   }
+  ghost_fibers = world.sum(ghost_fibers);
+  if (world.root())
+    std::printf("weakest total drag %.3g N (fibers' weight %.3g N), %lld ghost fiber samples\n",
+                weakest, weight, static_cast<long long>(ghost_fibers));
   EXPECT_LT(worst, 1e-12);
+  EXPECT_GT(weakest, 0.1 * weight) << "a step with (almost) no drag balances trivially";
   EXPECT_GT(sim.dem_substeps(), 0);
+  if (world.size() > 1) {
+    EXPECT_GT(ghost_fibers, 0) << "no fiber near a rank border";
+  }
 }
 
 }  // namespace

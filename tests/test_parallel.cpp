@@ -3,7 +3,10 @@
 // reference computed in the same process by rank 0 alone (on MPI_COMM_SELF):
 // the resin's (gid, x, v, rho) must be bitwise identical, since the rate
 // loops gather neighbors in global-id order and every cross-rank reduction
-// that feeds the physics is exact or ordered by global id.
+// that feeds the physics is exact or ordered by global id. The comparisons
+// need several ranks (tests/parallel.cmake leaves them out at one, where
+// they would compare a run with itself) and check that the run did cross
+// ranks: ghosts from another rank, migrated particles, re-partitions.
 //
 // Also: particle count, ids and mass are conserved through every migration
 // and re-partition; resin crossing the domain triggers re-partitioning that
@@ -16,11 +19,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
@@ -28,6 +33,7 @@
 
 #include "../src/parallel/decomposition.hpp"
 #include "mpi_test_helpers.hpp"
+#include "sphdem/agreement.hpp"
 #include "sphdem/config.hpp"
 #include "sphdem/decomposition.hpp"
 #include "sphdem/ordered_sum.hpp"
@@ -102,15 +108,58 @@ void expect_identical(const std::vector<Row>& ref, const std::vector<Row>& got, 
                             << worst;
 }
 
-// Runs `c` for `steps` steps on every rank and compares with rank 0 alone.
+// What crossed rank borders during an N-rank run, summed over the ranks
+// and over the samples: ghosts whose owner is another rank (periodic images
+// of this rank's own particles do not count), and owned particles that
+// started on another rank (they migrated here).
+struct Crossings {
+  std::int64_t foreign_ghosts = 0;
+  std::int64_t arrivals = 0;
+};
+
 template <int D>
-void expect_rank_independent(const Case& c, std::int64_t steps) {
+void count_crossings(const SphParticles<D>& ps, const std::vector<std::int64_t>& initial,
+                     Crossings& c) {
+  std::vector<std::int64_t> owned(ps.gid.begin(),
+                                  ps.gid.begin() + static_cast<std::ptrdiff_t>(ps.n_owned));
+  std::sort(owned.begin(), owned.end());
+  for (std::size_t i = ps.n_owned; i < ps.size(); ++i)
+    c.foreign_ghosts += !std::binary_search(owned.begin(), owned.end(), ps.gid[i]);
+  for (std::int64_t g : owned) c.arrivals += !std::binary_search(initial.begin(), initial.end(), g);
+}
+
+// Runs `c` for `steps` steps on every rank and compares with rank 0 alone.
+// Needs several ranks (at one it would compare a run with itself), and
+// checks that the run did cross ranks: resin ghosts from another rank
+// (every rate sums over them) and, when `expect_migration`, resin that
+// migrated (its fields must travel).
+template <int D>
+void expect_rank_independent(const Case& c, std::int64_t steps, bool expect_migration = true) {
   const Comm world;
+  ASSERT_GT(world.size(), 1) << "a comparison with one rank needs several ranks";
   const std::vector<Row> ref = reference<D>(world, c, steps);
   Simulation<D> sim(c, world, quiet());
-  sim.advance(steps);
+  std::vector<std::int64_t> initial(
+      sim.particles().gid.begin(),
+      sim.particles().gid.begin() + static_cast<std::ptrdiff_t>(sim.particles().n_owned));
+  std::sort(initial.begin(), initial.end());
+  Crossings local;
+  constexpr std::int64_t kSample = 25;  // advance(n) is n single steps: sampling changes nothing
+  for (std::int64_t done = 0; done < steps; done += kSample) {
+    sim.advance(std::min(kSample, steps - done));
+    count_crossings<D>(sim.particles(), initial, local);
+  }
   const std::vector<Row> got = gather_fluid<D>(world, sim.particles());
-  if (world.root()) expect_identical(ref, got, D);
+  const std::int64_t ghosts = world.sum(local.foreign_ghosts);
+  const std::int64_t arrivals = world.sum(local.arrivals);
+  if (!world.root()) return;
+  std::printf("[          ] %d ranks: %lld ghost and %lld migrated particle samples\n",
+              world.size(), static_cast<long long>(ghosts), static_cast<long long>(arrivals));
+  expect_identical(ref, got, D);
+  EXPECT_GT(ghosts, 0) << "no ghost from another rank: the ranks did not interact";
+  if (expect_migration) {
+    EXPECT_GT(arrivals, 0) << "no particle migrated";
+  }
 }
 
 // Global counts and mass of each kind, and whether the ids are exactly
@@ -156,10 +205,13 @@ Case load(const std::string& input, std::vector<std::string> sets) {
 // ----------------------------------------- 1 rank vs N ranks, bitwise
 
 // Periodic images cross ranks and come back to the same rank; the body
-// force is raised 50x (still laminar, Mach 0.06) so that the resin moves,
-// rebuilds and migrates within the 500 steps.
+// force is raised 50x (still laminar, Mach 0.06) so that the resin moves
+// and the lists are rebuilt (positions wrap) within the 500 steps. It moves
+// about two spacings: some of it migrates at 3 and 4 ranks, none at 2 (the
+// other tests migrate at every rank count).
 TEST(RankIndependence, PeriodicPoiseuille) {
-  expect_rank_independent<2>(load("validation/poiseuille.yaml", {"body_force=[5.0e-3, 0]"}), 500);
+  expect_rank_independent<2>(load("validation/poiseuille.yaml", {"body_force=[5.0e-3, 0]"}), 500,
+                             /*expect_migration=*/false);
 }
 
 // A free surface with re-partitioning forced at every chance: the partition
@@ -231,6 +283,7 @@ parallel: {balance_every: 50, imbalance_threshold: 0.10}
 
 TEST(LoadBalance, CrossingResinTriggersRepartitioning) {
   const Comm world;
+  ASSERT_GT(world.size(), 1) << "one rank is always balanced";
   const Case c = load_case_from_string(kSlab, "slab.yaml");
   Simulation<2> sim(c, world, quiet());
   EXPECT_LT(sim.last_imbalance(), c.parallel.imbalance_threshold) << "initial partition";
@@ -242,9 +295,7 @@ TEST(LoadBalance, CrossingResinTriggersRepartitioning) {
         "%.4f at the end\n",
         world.size(), static_cast<long long>(sim.repartitions()), sim.last_imbalance(), now);
   }
-  if (world.size() > 1) {
-    EXPECT_GT(sim.repartitions(), 0);
-  }
+  EXPECT_GT(sim.repartitions(), 0);
   EXPECT_LT(sim.last_imbalance(), c.parallel.imbalance_threshold);
   // Between two checks the resin keeps moving: a cell of this slab's motion
   // shifts about 7 % of the work across a part boundary, so the imbalance
@@ -301,6 +352,7 @@ std::map<std::string, std::vector<char>> read_datasets(const std::string& file) 
 
 TEST(Snapshots, DatasetsEqualThoseOfOneRank) {
   const Comm world;
+  ASSERT_GT(world.size(), 1) << "a comparison with one rank needs several ranks";
   const std::string base =
       std::string(SPHDEM_BINARY_DIR) + "/tests/parallel_work/np" + std::to_string(world.size());
   Case c = load("validation/dam_break.yaml",
@@ -435,6 +487,29 @@ TEST(OrderedSum, SameBitsAtEveryRankCount) {
     EXPECT_EQ(sums[static_cast<std::size_t>(k)].sum, serial[k]);
     EXPECT_EQ(sums[static_cast<std::size_t>(k)].count, count[k]);
   }
+}
+
+// The agreement after a phase each rank runs alone (loading the case
+// file): every rank learns the lowest failing rank and its message.
+TEST(Agreement, FirstFailureReachesEveryRank) {
+  const Comm world;
+  EXPECT_FALSE(first_failure(world, std::nullopt).has_value());
+  const int last = world.size() - 1;
+  const std::optional<std::string> mine =
+      world.rank() == last ? std::optional<std::string>("rank " + std::to_string(last) + " failed")
+                           : std::nullopt;
+  const std::optional<RankFailure> f = first_failure(world, mine);
+  ASSERT_TRUE(f.has_value());
+  EXPECT_EQ(f->rank, last);
+  EXPECT_EQ(f->message, "rank " + std::to_string(last) + " failed");
+  // Several fail: the lowest one speaks for all.
+  const std::optional<RankFailure> g =
+      first_failure(world, world.rank() > 0 || world.size() == 1
+                               ? std::optional<std::string>("from " + std::to_string(world.rank()))
+                               : std::nullopt);
+  ASSERT_TRUE(g.has_value());
+  EXPECT_EQ(g->rank, world.size() == 1 ? 0 : 1);
+  EXPECT_EQ(g->message, "from " + std::to_string(g->rank));
 }
 
 }  // namespace

@@ -3,15 +3,19 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 #include <cmath>
+#include <exception>
 #include <iostream>
+#include <optional>
 
 #include "output_dir.hpp"
 #include "partition_command.hpp"
 #include "signals.hpp"
+#include "sphdem/agreement.hpp"
 #include "sphdem/comm.hpp"
 #include "sphdem/config.hpp"
 #include "sphdem/dem_run.hpp"
 #include "sphdem/errors.hpp"
+#include "sphdem/fault.hpp"
 #include "sphdem/run.hpp"
 #include "sphdem/solver.hpp"
 
@@ -37,6 +41,36 @@ void report_stop(const RunSummary& s, const Comm& comm, bool quiet) {
   std::cout << fmt::format(
       "stopped by signal {} at t = {:.6g} s: checkpoint {}; continue with --restart latest\n",
       app::stop_signal(), s.time, s.last_checkpoint);
+}
+
+// Every rank reads the case file on its own, then they agree: a rank that
+// cannot read it (a file system missing on one node) stops every rank with
+// exit status 2, where going on would leave the others waiting for it in
+// the first collective (docs/architecture.md, "Errors").
+Case load_case_on_every_rank(const Comm& comm, const RunArgs& a) {
+  std::optional<Case> c;
+  std::optional<std::string> error;
+  std::exception_ptr mine;
+  try {
+    inject_load_fault(comm.rank(), a.case_file.c_str());
+    c = load_case(a.case_file, a.sets);
+  } catch (const std::exception& e) {
+    error = e.what();
+    mine = std::current_exception();
+  }
+  const std::optional<RankFailure> failed = first_failure(comm, error);
+  if (!failed) return std::move(*c);
+  if (failed->rank == comm.rank()) {
+    try {
+      std::rethrow_exception(mine);
+    } catch (const InputError&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw InputError(a.case_file, 0, "", e.what());
+    }
+  }
+  throw InputError(a.case_file, 0, "",
+                   fmt::format("on rank {}: {}", failed->rank, failed->message));
 }
 
 // Measured one-rank resin throughput (docs/performance.md), used only for
@@ -227,7 +261,7 @@ int dispatch(int argc, char** argv) {
   if (part_cmd->parsed()) return run_partition_command(part, comm);
   if (run_cmd->parsed()) install_stop_signals();
   const RunArgs& a = run_cmd->parsed() ? run : check;
-  const Case c = load_case(a.case_file, a.sets);
+  const Case c = load_case_on_every_rank(comm, a);
   if (run_cmd->parsed())
     return c.dimension == 2 ? run_case<2>(c, a, comm) : run_case<3>(c, a, comm);
   if (c.fill.empty())  // fibers only (the loader requires one of the two)

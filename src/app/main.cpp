@@ -1,7 +1,8 @@
 // The sphdem command line: `sphdem run case.yaml`, `sphdem check case.yaml`,
 // `sphdem partition case.yaml --ranks 64,256`, `sphdem keys [--markdown]`.
-// Exit status: 0 success, 2 bad input (nothing written), 3 the simulation
-// failed (last state written), 1 anything else.
+// Exit status (include/sphdem/errors.hpp, docs/architecture.md "Errors"):
+// 0 success, 2 bad input (nothing written), 3 the simulation failed (last
+// state written when every rank saw the failure), 1 anything else.
 #include <mpi.h>
 
 #include <CLI/CLI.hpp>
@@ -9,24 +10,27 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "fault_handler.hpp"
 #include "sphdem/errors.hpp"
 
 int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);
+  sphdem::app::install_fault_handler();
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   int status = 0;
+  // Only the collective errors are caught: every rank throws them together,
+  // so every rank can leave MPI cleanly. Nothing else is caught, on purpose:
+  // a one-rank failure goes to the fault handler (fault_handler.hpp), which
+  // aborts the job before the stack unwinds.
   try {
     status = sphdem::app::dispatch(argc, argv);
   } catch (const sphdem::InputError& e) {
     if (rank == 0) std::cerr << "sphdem: error: " << e.what() << "\n";
-    status = 2;
-  } catch (const sphdem::SimulationError& e) {
+    status = sphdem::kExitInput;
+  } catch (const sphdem::CollectiveSimulationError& e) {
     if (rank == 0) std::cerr << "sphdem: simulation failed: " << e.what() << "\n";
-    status = 3;
-  } catch (const std::exception& e) {
-    std::cerr << "sphdem: error (rank " << rank << "): " << e.what() << "\n";
-    MPI_Abort(MPI_COMM_WORLD, 1);
+    status = sphdem::kExitSimulation;
   }
   MPI_Finalize();
   return status;

@@ -24,4 +24,10 @@ InputError::InputError(std::string file, int line, std::string key, const std::s
       line_(line),
       key_(std::move(key)) {}
 
+int exit_status_of(const std::exception& e) {
+  if (dynamic_cast<const InputError*>(&e)) return kExitInput;
+  if (dynamic_cast<const SimulationError*>(&e)) return kExitSimulation;
+  return kExitOther;
+}
+
 }  // namespace sphdem

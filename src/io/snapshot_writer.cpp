@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "hdf5_helpers.hpp"
+#include "sphdem/fault.hpp"
 #include "sphdem/io.hpp"
 
 namespace sphdem {
@@ -363,6 +364,12 @@ SnapshotWriter::Entry SnapshotWriter::write_hdf5(const std::string& path, std::i
 
   write_root_attributes(file.get(), step, time, sets.front().dimension, case_name_, case_yaml_,
                         path);
+  // Testing hook (fault.hpp): an HDF5 call fails on one rank while the
+  // others go on into the collective writes.
+  if (fault_due(FaultKind::Hdf5, comm_.rank(), step)) {
+    check(H5Dwrite(H5I_INVALID_HID, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, nullptr),
+          "write dataset (injected fault)", path);
+  }
 
   Entry entry{step, time, {}, {}};
   for (std::size_t s = 0; s < sets.size(); ++s) {

@@ -17,6 +17,7 @@
 #include "sphdem/config.hpp"
 #include "sphdem/coupling_module.hpp"
 #include "sphdem/errors.hpp"
+#include "sphdem/fault.hpp"
 #include "sphdem/fiber_module.hpp"
 #include "sphdem/io.hpp"
 #include "sphdem/output_cadence.hpp"
@@ -125,7 +126,7 @@ void Run<D>::check_health() const {
     bad = comm_.min(static_cast<std::int64_t>(problem.empty() ? comm_.size() : comm_.rank()));
   }
   if (bad >= comm_.size()) return;
-  throw SimulationError(fmt::format(
+  throw CollectiveSimulationError(fmt::format(
       "step {} (t = {:.6g} s): {}", clock_.step, clock_.time,
       bad == comm_.rank() ? problem : fmt::format("a particle on rank {} failed", bad)));
 }
@@ -195,9 +196,12 @@ RunSummary Run<D>::run() {
   OutputCadence cadence = resumed_output_cadence(case_.output, clock_.time);
   CheckpointCadence checkpoints(case_.checkpoint, opt_.checkpoint_every, opt_.stop_requested);
   bool stopped = false;
+  set_current_step(clock_.step);
   try {
     while (clock_.time < end * (1 - 1e-12) && (!opt_.max_steps || clock_.step < *opt_.max_steps)) {
+      set_current_step(clock_.step + 1);
       do_step();
+      inject_step_fault(comm_.rank(), clock_.step);  // tests only (fault.hpp)
       if (clock_.step % kHealthEvery == 0) check_health();
       report_progress(elapsed(), clock_.step - step0, false);
       if (cadence.due(clock_.step, clock_.time) && output) write_snapshot();
@@ -212,12 +216,18 @@ RunSummary Run<D>::run() {
       }
     }
     check_health();
-  } catch (const SimulationError&) {
+  } catch (const SimulationError& e) {
+    // Writing the last state is collective: only when every rank failed
+    // (with one rank, always). A one-rank failure goes on to the app's fault
+    // handler, which aborts the job (docs/architecture.md, "Errors").
+    const bool collective = dynamic_cast<const CollectiveSimulationError*>(&e) != nullptr;
+    if (!collective && comm_.size() > 1) throw;
     if (output) {
       const std::string last = write_snapshot();
       if (opt_.log && comm_.root()) *opt_.log << "last state written to " << last << "\n";
     }
-    throw;
+    if (collective) throw;
+    throw CollectiveSimulationError(e.what());
   }
   // The final state is always on disk, whatever the cadence (after a stop
   // request, in the checkpoint: a snapshot off the cadence would not be in

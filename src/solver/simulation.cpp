@@ -161,7 +161,7 @@ std::optional<TimeStep> ResinModule<D>::stable_dt() {
     a_max = comm_.max(ex.a_max);
   }
   if (!std::isfinite(v_max) || !std::isfinite(a_max)) {
-    throw SimulationError(
+    throw CollectiveSimulationError(
         fmt::format("the resin blew up at step {} (t = {:.6g} s): a velocity "
                     "or acceleration is not finite",
                     ctx_.clock.step, ctx_.clock.time));

@@ -1,0 +1,88 @@
+#include "sphdem/fault.hpp"
+
+#include <fmt/format.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+
+#include "sphdem/errors.hpp"
+
+namespace sphdem {
+
+namespace {
+
+std::atomic<std::int64_t> g_step{-1};
+
+constexpr const char* kVariable = "SPHDEM_INJECT_FAULT";
+
+std::optional<InjectedFault> parse(const std::string& spec) {
+  const auto bad = [&] {
+    return InputError(kVariable, 0, "",
+                      "'" + spec +
+                          "': expected RANK:STEP:KIND with KIND one of input, "
+                          "simulation, runtime, hdf5");
+  };
+  const std::size_t a = spec.find(':');
+  const std::size_t b = a == std::string::npos ? a : spec.find(':', a + 1);
+  if (b == std::string::npos) throw bad();
+  InjectedFault f;
+  try {
+    std::size_t used = 0;
+    f.rank = std::stoi(spec.substr(0, a), &used);
+    if (used != a) throw bad();
+    f.step = std::stoll(spec.substr(a + 1, b - a - 1), &used);
+    if (used != b - a - 1) throw bad();
+  } catch (const std::logic_error&) {  // stoi: not a number, out of range
+    throw bad();
+  }
+  const std::string kind = spec.substr(b + 1);
+  if (kind == "input")
+    f.kind = FaultKind::Input;
+  else if (kind == "simulation")
+    f.kind = FaultKind::Simulation;
+  else if (kind == "runtime")
+    f.kind = FaultKind::Runtime;
+  else if (kind == "hdf5")
+    f.kind = FaultKind::Hdf5;
+  else
+    throw bad();
+  return f;
+}
+
+}  // namespace
+
+void set_current_step(std::int64_t step) {
+  g_step = step;
+}
+
+std::int64_t current_step() {
+  return g_step;
+}
+
+std::optional<InjectedFault> injected_fault() {
+  const char* spec = std::getenv(kVariable);
+  if (spec == nullptr || *spec == '\0') return std::nullopt;
+  static const std::optional<InjectedFault> fault = parse(spec);
+  return fault;
+}
+
+bool fault_due(FaultKind kind, int rank, std::int64_t step) {
+  const std::optional<InjectedFault> f = injected_fault();
+  return f && f->kind == kind && f->rank == rank && (kind == FaultKind::Input || f->step == step);
+}
+
+void inject_load_fault(int rank, const char* case_file) {
+  if (fault_due(FaultKind::Input, rank, 0))
+    throw InputError(case_file, 0, "", fmt::format("fault injected ({})", kVariable));
+}
+
+void inject_step_fault(int rank, std::int64_t step) {
+  if (fault_due(FaultKind::Simulation, rank, step))
+    throw SimulationError(fmt::format("fault injected after step {} ({})", step, kVariable));
+  if (fault_due(FaultKind::Runtime, rank, step))
+    throw std::runtime_error(fmt::format("fault injected after step {} ({})", step, kVariable));
+}
+
+}  // namespace sphdem
