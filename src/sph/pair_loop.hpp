@@ -213,17 +213,10 @@ struct Needs<D, TermList<S...>> {
 
 // ---- The loop ---------------------------------------------------------------
 
-// Records of every particle, 64-byte aligned, reused between calls.
-class RecordBuffer {
- public:
-  double* get(std::size_t n) {
-    if (data_.size() < n + 8) data_.resize(n + 8);
-    auto addr = reinterpret_cast<std::uintptr_t>(data_.data());
-    return data_.data() + ((64 - addr % 64) % 64) / sizeof(double);
-  }
-
- private:
-  std::vector<double> data_;
+// One particle's record: whole cache lines, so a neighbour costs the fewest.
+template <std::size_t kStride>
+struct alignas(64) PackedRecord {
+  double v[kStride];
 };
 
 template <class T, int D>
@@ -264,27 +257,28 @@ template <int D, class Fs>
 struct GatherLanes;
 template <int D, class... Fs>
 struct GatherLanes<D, Fields<Fs...>> {
-  template <class Lanes, class Record>
-  static void run(const double* own, const double* rj, std::size_t k, double* lanes) {
+  // rj is an array element, not a computed pointer: GCC then vectorizes
+  // the gather over k (AVX-512 gathers).
+  template <class Lanes, class Record, class R>
+  static void run(const double* own, const R& rj, std::size_t k, double* lanes) {
     (one<Lanes, Record, Fs>(own, rj, k, lanes), ...);
   }
-  template <class Lanes, class Record, class F>
-  static void one(const double* own, const double* rj, std::size_t k, double* lanes) {
+  template <class Lanes, class Record, class F, class R>
+  static void one(const double* own, const R& rj, std::size_t k, double* lanes) {
     constexpr std::size_t lo = Lanes::template offset<F>(), ro = Record::template offset<F>();
     for (std::size_t c = 0; c < width_v<F, D>; ++c) {
       if constexpr (std::is_void_v<typename F::RelativeTo>) {
-        lanes[(lo + c) * kChunk + k] = rj[ro + c];
+        lanes[(lo + c) * kChunk + k] = rj.v[ro + c];
       } else {
         constexpr std::size_t so = Record::template offset<typename F::RelativeTo>();
-        lanes[(lo + c) * kChunk + k] = own[so + c] - rj[ro + c];
+        lanes[(lo + c) * kChunk + k] = own[so + c] - rj.v[ro + c];
       }
     }
   }
 };
 
 template <int D, class List, std::size_t C>
-void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
-                RecordBuffer& buffer) {
+void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
   using Sel = typename Registry<List>::template Select<C>;
   using N = Needs<D, Sel>;
   using Lanes = typename N::Lanes;
@@ -296,10 +290,12 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   const TermContext<D> ctx{sp, kernel, kernel.w(0.0) / 16.0};
 
   // 0. The records (every particle, ghosts included).
+  thread_local std::vector<PackedRecord<kStride>> records;
   const std::size_t n = ps.size();
-  double* rec = buffer.get(n * kStride);
+  records.resize(n);
+  PackedRecord<kStride>* rec = records.data();
   for (std::size_t i = 0; i < n; ++i)
-    FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec + i * kStride);
+    FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
 
   [&]<class... S>(TermList<S...>) {
     const std::tuple<typename S::Term...> terms{make_term<typename S::Term>(ctx)...};
@@ -314,11 +310,10 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     alignas(64) double lanes[Lanes::kSize * kChunk];
     alignas(64) double acc_lane[D][kChunk];  // per-pair acceleration
     alignas(64) double drho_lane[kChunk];    // per-pair density rate
-    alignas(64) double own[kStride];
 
     for (std::size_t i = 0; i < ps.n_owned; ++i) {
       if (ps.kind[i] != Kind::Fluid) continue;
-      std::copy_n(rec + i * kStride, kStride, own);
+      const double* own = rec[i].v;
       const std::tuple<typename S::Term...> bound{for_particle(
           std::get<typename S::Term>(terms),
           OwnView<Record, typename MergeAll<false, typename S::Term::Reads,
@@ -331,8 +326,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
 
         // 1. Gather.
         for (std::size_t k = 0; k < cnt; ++k)
-          GatherLanes<D, typename N::LaneFields>::template run<Lanes, Record>(
-              own, rec + static_cast<std::size_t>(nb[b + k]) * kStride, k, lanes);
+          GatherLanes<D, typename N::LaneFields>::template run<Lanes, Record>(own, rec[nb[b + k]],
+                                                                              k, lanes);
 
         // 2. Pair terms, branch-free (vectorized).
         for (std::size_t k = 0; k < cnt; ++k) {
@@ -412,7 +407,7 @@ LoopDescription describe_loop() {
 }
 
 template <int D, class List>
-using LoopFn = void (*)(const SphParams&, const NeighborList<D>&, SphParticles<D>&, RecordBuffer&);
+using LoopFn = void (*)(const SphParams&, const NeighborList<D>&, SphParticles<D>&);
 
 template <int D, class List, std::size_t... C>
 constexpr std::array<LoopFn<D, List>, sizeof...(C)> loop_table(std::index_sequence<C...>) {
@@ -429,8 +424,7 @@ template <int D, class List>
 void run_pair_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
   static constexpr auto table =
       loop_table<D, List>(std::make_index_sequence<Registry<List>::kCombinations>{});
-  thread_local RecordBuffer buffer;
-  table[Registry<List>::combination(sp)](sp, nl, ps, buffer);
+  table[Registry<List>::combination(sp)](sp, nl, ps);
 }
 
 // The combination run_pair_loop picks for sp, for tests and logs.
