@@ -247,14 +247,15 @@ template <int D, class Fs>
 struct FillRecord;
 template <int D, class... Fs>
 struct FillRecord<D, Fields<Fs...>> {
-  // Through a local copy: its stores cannot alias the particle arrays, so
-  // fields computed from the same inputs (P/rho^2, R_a) share the loads
-  // and the division.
-  template <class Record, class R>
-  static void run(const SphParams& sp, const SphParticles<D>& ps, std::size_t i, R& out) {
-    R local{};  // zero padding
-    (Fs::template fill<D>(sp, ps, i, local.v + Record::template offset<Fs>()), ...);
-    out = local;
+  // Through a local array: its stores cannot alias the particle arrays,
+  // so fields computed from the same inputs (P/rho^2, R_a) share the loads
+  // and the division. Copied element by element (an aggregate copy would
+  // stop the vectorization of the loop over particles).
+  template <class Record>
+  static void run(const SphParams& sp, const SphParticles<D>& ps, std::size_t i, double* out) {
+    double local[Record::kSize];
+    (Fs::template fill<D>(sp, ps, i, local + Record::template offset<Fs>()), ...);
+    for (std::size_t c = 0; c < Record::kSize; ++c) out[c] = local[c];
   }
 };
 
@@ -300,7 +301,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   records.resize(n);
   PackedRecord<kStride>* rec = records.data();
   for (std::size_t i = 0; i < n; ++i)
-    FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i]);
+    FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
 
   [&]<class... S>(TermList<S...>) {
     const std::tuple<typename S::Term...> terms{make_term<typename S::Term>(ctx)...};
