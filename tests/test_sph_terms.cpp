@@ -87,8 +87,8 @@ TEST(SphTermRegistry, SelectsTheTermsAndVariantsTheCaseSwitchesOn) {
 
 // Each active term's declared fields, collected at run time from its type.
 template <int D, class... T>
-void collect_reads(terms::TermList<T...>, const std::string& name,
-                   std::vector<std::string>& lanes, std::vector<std::string>& own) {
+void collect_reads(terms::TermList<T...>, const std::string& name, std::vector<std::string>& lanes,
+                   std::vector<std::string>& own) {
   (
       [&] {
         if (name != T::name) return;
@@ -197,8 +197,8 @@ void direct_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D
                                                ps.rho[i], ps.rho[j]);
       if (sp.anti_clump)
         bracket += terms::anti_clump(terms::anti_clump_r(sp.anti_clump_eps, por2_i),
-                                     terms::anti_clump_r(sp.anti_clump_eps, por2_j), por2_i,
-                                     por2_j, kernel.w(r) / kernel.w(sp.spacing), sp.anti_clump_n);
+                                     terms::anti_clump_r(sp.anti_clump_eps, por2_j), por2_i, por2_j,
+                                     kernel.w(r) / kernel.w(sp.spacing), sp.anti_clump_n);
       a[i] -= ps.mass[j] * bracket * F * x;
       if (sp.mu > 0)
         a[i] += terms::morris_viscosity(2.0 * sp.mu * sp.mu_scale / sp.grad_scale / ps.rho[i],
@@ -243,8 +243,8 @@ TEST(SphPairLoop, EqualsTheDirectSumOfTheTermsInEveryCombination) {
           sp.delta = delta;
           sp.anti_clump = clump != 0;
           sp.anti_clump_n = clump == 0 ? 4 : clump;
-          SCOPED_TRACE(testing::Message() << "mu " << mu << " alpha " << alpha << " delta "
-                                          << delta << " clump " << clump);
+          SCOPED_TRACE(testing::Message() << "mu " << mu << " alpha " << alpha << " delta " << delta
+                                          << " clump " << clump);
           expect_loop_matches_direct_sum<2>(sp);
           expect_loop_matches_direct_sum<3>(sp);
         }
