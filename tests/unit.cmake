@@ -2,3 +2,5 @@ sphdem_test(test_kernel_eos SOURCES test_kernel_eos.cpp RANKS 1 LABELS unit)
 sphdem_test(test_geometry SOURCES test_geometry.cpp RANKS 1 LABELS unit)
 # The SPH pair terms and the rate loop against hand computations.
 sphdem_test(test_sph_terms SOURCES test_sph_terms.cpp RANKS 1 LABELS unit)
+# The term registry: selection, record layout, the generated loop against the formulas.
+sphdem_test(test_sph_term_registry SOURCES test_sph_term_registry.cpp RANKS 1 LABELS unit)

@@ -5,8 +5,14 @@
 //   when both pressures are positive R_ij = 0.01 (P_i/rho_i^2 + P_j/rho_j^2).
 // It adds a short-range repulsion that stops particles pairing up where
 // the pressure is negative.
-// Written with selects instead of branches so that the pair loop of
-// fluid_rates.cpp vectorizes.
+// Written with selects instead of branches so that the pair loop vectorizes.
+// Case-file switches: numerics.anti_clump, anti_clump_epsilon,
+// anti_clump_exponent (n = 4 is a compile-time fast path, f^4 = (f^2)^2).
+#include <cstddef>
+
+#include "../record_fields.hpp"
+#include "pressure.hpp"
+
 namespace sphdem::terms {
 
 // Per-particle part R_a (0 for non-negative pressure).
@@ -19,7 +25,7 @@ inline double anti_clump_coefficient(double r_i, double r_j, double por2_i, doub
   return (por2_i > 0.0 && por2_j > 0.0) ? 0.01 * (por2_i + por2_j) : r_i + r_j;
 }
 
-// f^n for any n >= 0 (a loop: the rate loop has a fast path for n = 4).
+// f^n for any n >= 0 (a loop: the term has a fast path for n = 4).
 inline double anti_clump_power(double w_ratio, int n) {
   double f = 1.0;
   for (int k = 0; k < n; ++k) f *= w_ratio;
@@ -30,5 +36,50 @@ inline double anti_clump(double r_i, double r_j, double por2_i, double por2_j, d
                          int n) {
   return anti_clump_coefficient(r_i, r_j, por2_i, por2_j) * anti_clump_power(w_ratio, n);
 }
+
+namespace field {
+// R_a, prepared once per particle.
+struct AntiClumpR : ScalarField {
+  static constexpr const char* name = "anti_clump_r";
+  template <int D>
+  static void fill(const SphParams& sp, const SphParticles<D>& ps, std::size_t i, double* out) {
+    out[0] = anti_clump_r(sp.anti_clump_eps, pressure_over_rho2(ps.p[i], ps.rho[i]));
+  }
+};
+}  // namespace field
+
+struct AntiClump {
+  static constexpr const char* name = "anti_clump";
+  using Reads = Fields<field::PoR2, field::AntiClumpR>;
+  static constexpr unsigned writes = kBracket;
+  static bool active(const SphParams& sp) { return sp.anti_clump; }
+  // Variant 0: n = 4, f^4 = (f^2)^2. Variant 1: any n.
+  static constexpr int variants = 2;
+  static int variant(const SphParams& sp) { return sp.anti_clump_n == 4 ? 0 : 1; }
+
+  double kw, inv_w_dp;  // W = kw t^4 (1 + 2q); 1 / W(dp)
+  int n;
+  template <int D>
+  explicit AntiClump(const TermContext<D>& c)
+      : kw(c.kw), inv_w_dp(1.0 / c.kernel.w(c.sp.spacing)), n(c.sp.anti_clump_n) {}
+
+  template <int V, class P>
+  void pair(const P& p, PairSums& s) const {
+    // WendlandC2::w (kernel.hpp) over W(dp), the same operations without the branch.
+    const double t2 = p.t * p.t;
+    const double w_ratio = kw * t2 * t2 * (1.0 + 2.0 * p.q) * inv_w_dp;
+    double f;
+    if constexpr (V == 0) {
+      const double w2 = w_ratio * w_ratio;
+      f = w2 * w2;
+    } else {
+      f = anti_clump_power(w_ratio, n);
+    }
+    s.bracket +=
+        anti_clump_coefficient(p.own_value(field::AntiClumpR{}), p.lane(field::AntiClumpR{}),
+                               p.own_value(field::PoR2{}), p.lane(field::PoR2{})) *
+        f;
+  }
+};
 
 }  // namespace sphdem::terms

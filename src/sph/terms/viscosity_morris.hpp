@@ -4,14 +4,44 @@
 // With x_ij . grad_i W_ij = F r^2 (F < 0) it pulls v_i toward v_j. For a
 // wall neighbor v_j is the no-slip velocity 2 v_wall - v_tilde (Adami).
 // Reproduces the Poiseuille and Couette profiles (tests/test_channel_flows).
+// Case-file switch: numerics.viscosity_model (morris, none).
+#include "../record_fields.hpp"
+
 namespace sphdem::terms {
 
-// Scalar factor multiplying v_ij. The rate loop passes the per-particle
+// Scalar factor multiplying v_ij. The caller passes the per-particle
 // parts, two_mu_over_rho_i = 2 mu / rho_i and vol_j = m_j / rho_j, so the
 // pair costs one division (by r^2 + eta^2) instead of two.
 inline double morris_viscosity(double two_mu_over_rho_i, double vol_j, double F, double r2,
                                double eta2) {
   return two_mu_over_rho_i * vol_j * F * r2 / (r2 + eta2);
 }
+
+struct MorrisViscosity {
+  static constexpr const char* name = "morris";
+  using Reads = Fields<field::Vol>;
+  using OwnReads = Fields<field::Rho>;
+  static constexpr unsigned writes = kVisc;  // the loop multiplies it by v_i - vw_j
+  static bool active(const SphParams& sp) { return sp.mu > 0; }
+
+  double two_mu;  // 2 mu, over grad_scale since F carries it
+  double eta2;
+  double two_mu_over_rho_i = 0.0;
+  template <int D>
+  explicit MorrisViscosity(const TermContext<D>& c)
+      : two_mu(2.0 * c.sp.mu * c.sp.mu_scale / c.sp.grad_scale), eta2(c.sp.eta2) {}
+
+  template <class I>
+  MorrisViscosity for_particle(const I& i) const {
+    MorrisViscosity bound = *this;
+    bound.two_mu_over_rho_i = two_mu / i.own_value(field::Rho{});
+    return bound;
+  }
+
+  template <class P>
+  void pair(const P& p, PairSums& s) const {
+    s.visc += morris_viscosity(two_mu_over_rho_i, p.lane(field::Vol{}), p.F, p.r2, eta2);
+  }
+};
 
 }  // namespace sphdem::terms

@@ -1,0 +1,444 @@
+#pragma once
+// The resin's pair loop, generated from a list of terms (sph_terms.hpp;
+// what a term is: term_interface.hpp). For the terms a case switches on it
+//   0. packs one record per particle with the fields those terms declare
+//      (and only those), computing prepared fields such as P/rho^2 or
+//      anti-clump's R_a once per particle, 64-byte aligned;
+//   per owned resin particle i, per chunk of up to kChunk neighbours:
+//   1. gathers the declared lanes of each neighbour j into short
+//      contiguous arrays (x_ij, v_ij, the neighbour's scalars);
+//   2. runs one branch-free loop over the lanes that the compiler
+//      vectorizes: the kernel values, then every active term's pair
+//      function in list order (pairs beyond the support get F = 0, a select
+//      instead of a `continue`, and contribute exact zeros);
+//   3. sums the per-pair contributions in list order.
+// The neighbour list is sorted by global id, and step 3 is a plain
+// sequential sum in that order, so the result does not depend on the
+// particle layout or the rank count (docs/performance.md).
+//
+// Which terms are on (and their compile-time variants) is a mixed-radix
+// number, one digit per term; the loop is instantiated for every
+// combination and a table picks the one for the case, so a term that is
+// off costs nothing and no dispatch code names a term.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <concepts>
+#include <cstdint>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "record_fields.hpp"
+#include "sphdem/neighbor.hpp"
+
+namespace sphdem::terms {
+
+// ---- Field lists ---------------------------------------------------------
+
+template <class L, class F>
+struct Append;
+template <class... Fs, class F>
+struct Append<Fields<Fs...>, F> {
+  using type = std::conditional_t<(std::is_same_v<F, Fs> || ...), Fields<Fs...>, Fields<Fs..., F>>;
+};
+template <class... Fs>
+struct Append<Fields<Fs...>, void> {
+  using type = Fields<Fs...>;
+};
+
+// L followed by the fields of M not yet in L; with kSources, a relative
+// field's source (VelWall's Vel) too, since its lane reads i's source.
+template <class L, class M, bool kSources>
+struct Merge;
+template <class L, bool kSources>
+struct Merge<L, Fields<>, kSources> {
+  using type = L;
+};
+template <class L, class F, class... Rest, bool kSources>
+struct Merge<L, Fields<F, Rest...>, kSources> {
+  using with_source =
+      std::conditional_t<kSources, typename Append<L, typename F::RelativeTo>::type, L>;
+  using type =
+      typename Merge<typename Append<with_source, F>::type, Fields<Rest...>, kSources>::type;
+};
+template <bool kSources, class L, class... Ms>
+struct MergeAll {
+  using type = L;
+};
+template <bool kSources, class L, class M, class... Ms>
+struct MergeAll<kSources, L, M, Ms...> {
+  using type = typename MergeAll<kSources, typename Merge<L, M, kSources>::type, Ms...>::type;
+};
+
+// Where each field of L sits in a record (or a lane block) of D-dimensional doubles.
+template <int D, class L>
+struct Layout;
+template <int D, class... Fs>
+struct Layout<D, Fields<Fs...>> {
+  static constexpr std::size_t kSize = (std::size_t{0} + ... + width_v<Fs, D>);
+  template <class F>
+  static constexpr std::size_t offset() {
+    static_assert(contains_v<F, Fields<Fs...>>, "field not in this layout");
+    std::size_t o = 0;
+    bool found = false;
+    ((found = found || std::is_same_v<F, Fs>, o += found ? 0 : width_v<Fs, D>), ...);
+    return o;
+  }
+  static std::vector<std::string> names() { return {Fs::name...}; }
+};
+
+// ---- Terms: on/off, variants, the combination table ------------------------
+
+template <class T>
+concept OptionalTerm = requires(const SphParams& sp) {
+  { T::active(sp) } -> std::convertible_to<bool>;
+};
+template <class T>
+concept VariantTerm = requires(const SphParams& sp) {
+  { T::variants } -> std::convertible_to<int>;
+  { T::variant(sp) } -> std::convertible_to<int>;
+};
+template <class T>
+constexpr int variants_of() {
+  if constexpr (VariantTerm<T>)
+    return T::variants;
+  else
+    return 1;
+}
+// A term's digit: 0 = off (optional terms only), then one per variant.
+template <class T>
+inline constexpr int states_v = variants_of<T>() + (OptionalTerm<T> ? 1 : 0);
+template <class T>
+int state_of(const SphParams& sp) {
+  int v = 0;
+  if constexpr (VariantTerm<T>) v = T::variant(sp);
+  if constexpr (OptionalTerm<T>)
+    return T::active(sp) ? 1 + v : 0;
+  else
+    return v;
+}
+
+template <class T>
+struct OwnReadsOf {
+  using type = Fields<>;
+};
+template <class T>
+requires requires {
+  typename T::OwnReads;
+}
+struct OwnReadsOf<T> {
+  using type = typename T::OwnReads;
+};
+
+// A term switched on in one of its variants.
+template <class T, int V>
+struct Selected {
+  using Term = T;
+  static constexpr int kVariant = V;
+};
+
+template <class... Ls>
+struct Concat {
+  using type = TermList<>;
+};
+template <class... A>
+struct Concat<TermList<A...>> {
+  using type = TermList<A...>;
+};
+template <class... A, class... B, class... Rest>
+struct Concat<TermList<A...>, TermList<B...>, Rest...> {
+  using type = typename Concat<TermList<A..., B...>, Rest...>::type;
+};
+
+template <class List>
+struct Registry;
+template <class... Ts>
+struct Registry<TermList<Ts...>> {
+  static constexpr std::size_t kTerms = sizeof...(Ts);
+  static constexpr std::array<int, kTerms> kStates{states_v<Ts>...};
+  static constexpr std::size_t kCombinations = (std::size_t{1} * ... * states_v<Ts>);
+
+  // The combination a case selects.
+  static std::size_t combination(const SphParams& sp) {
+    const std::array<int, kTerms> s{state_of<Ts>(sp)...};
+    std::size_t c = 0, radix = 1;
+    for (std::size_t k = 0; k < kTerms; ++k) {
+      c += static_cast<std::size_t>(s[k]) * radix;
+      radix *= static_cast<std::size_t>(kStates[k]);
+    }
+    return c;
+  }
+  // Digit k of combination c.
+  static constexpr int state(std::size_t c, std::size_t k) {
+    std::size_t radix = 1;
+    for (std::size_t m = 0; m < k; ++m) radix *= static_cast<std::size_t>(kStates[m]);
+    return static_cast<int>((c / radix) % static_cast<std::size_t>(kStates[k]));
+  }
+
+  template <std::size_t C, class Seq>
+  struct SelectImpl;
+  template <std::size_t C, std::size_t... K>
+  struct SelectImpl<C, std::index_sequence<K...>> {
+    using type = typename Concat<std::conditional_t<
+        (!OptionalTerm<Ts> || state(C, K) > 0),
+        TermList<Selected<Ts, (state(C, K) - (OptionalTerm<Ts> ? 1 : 0))>>, TermList<>>...>::type;
+  };
+  // The active terms of combination C, in list order.
+  template <std::size_t C>
+  using Select = typename SelectImpl<C, std::index_sequence_for<Ts...>>::type;
+};
+
+// What the selected terms need: the outputs they write, the lanes they read
+// per neighbour, and the record (lanes, relative sources, own-only fields).
+template <int D, class Sel>
+struct Needs;
+template <int D, class... S>
+struct Needs<D, TermList<S...>> {
+  static constexpr unsigned kWrites = (0u | ... | S::Term::writes);
+  // The loop itself reads x_ij (kernel), m_j (bracket) and v_i - vw_j (visc).
+  using Core = typename MergeAll<
+      false, Fields<field::Pos>,
+      std::conditional_t<(kWrites & kBracket) != 0, Fields<field::Mass>, Fields<>>,
+      std::conditional_t<(kWrites & kVisc) != 0, Fields<field::VelWall>, Fields<>>>::type;
+  using LaneFields = typename MergeAll<false, Core, typename S::Term::Reads...>::type;
+  using RecordFields = typename MergeAll<true, Fields<>, LaneFields,
+                                         typename OwnReadsOf<typename S::Term>::type...>::type;
+  using Lanes = Layout<D, LaneFields>;
+  using Record = Layout<D, RecordFields>;
+  // Whole cache lines per record: a neighbour costs the fewest lines.
+  static constexpr std::size_t kStride = (Record::kSize + 7) / 8 * 8;
+};
+
+// ---- The loop ---------------------------------------------------------------
+
+// One particle's record: whole cache lines, so a neighbour costs the fewest.
+template <std::size_t kStride>
+struct alignas(64) PackedRecord {
+  double v[kStride];
+};
+
+template <class T, int D>
+T make_term(const TermContext<D>& c) {
+  if constexpr (std::is_constructible_v<T, const TermContext<D>&>)
+    return T(c);
+  else
+    return T{};
+}
+
+template <class T, class I>
+T for_particle(const T& t, const I& own) {
+  if constexpr (requires { t.for_particle(own); })
+    return t.for_particle(own);
+  else
+    return t;
+}
+
+template <class S, class T, class P>
+void pair_of(const T& t, const P& p, PairSums& s) {
+  if constexpr (VariantTerm<T>)
+    t.template pair<S::kVariant>(p, s);
+  else
+    t.pair(p, s);
+}
+
+template <int D, class Fs>
+struct FillRecord;
+template <int D, class... Fs>
+struct FillRecord<D, Fields<Fs...>> {
+  // Through a local array: its stores cannot alias the particle arrays,
+  // so fields computed from the same inputs (P/rho^2, R_a) share the loads
+  // and the division. Copied element by element (an aggregate copy would
+  // stop the vectorization of the loop over particles).
+  template <class Record>
+  static void run(const SphParams& sp, const SphParticles<D>& ps, std::size_t i, double* out) {
+    double local[Record::kSize];
+    (Fs::template fill<D>(sp, ps, i, local + Record::template offset<Fs>()), ...);
+    for (std::size_t c = 0; c < Record::kSize; ++c) out[c] = local[c];
+  }
+};
+
+template <int D, class Fs>
+struct GatherLanes;
+template <int D, class... Fs>
+struct GatherLanes<D, Fields<Fs...>> {
+  // rj is an array element, not a computed pointer: GCC then vectorizes
+  // the gather over k (AVX-512 gathers).
+  template <class Lanes, class Record, class R>
+  static void run(const double* own, const R& rj, std::size_t k, double* lanes) {
+    (one<Lanes, Record, Fs>(own, rj, k, lanes), ...);
+  }
+  template <class Lanes, class Record, class F, class R>
+  static void one(const double* own, const R& rj, std::size_t k, double* lanes) {
+    constexpr std::size_t lo = Lanes::template offset<F>(), ro = Record::template offset<F>();
+    for (std::size_t c = 0; c < width_v<F, D>; ++c) {
+      if constexpr (std::is_void_v<typename F::RelativeTo>) {
+        lanes[(lo + c) * kChunk + k] = rj.v[ro + c];
+      } else {
+        constexpr std::size_t so = Record::template offset<typename F::RelativeTo>();
+        lanes[(lo + c) * kChunk + k] = own[so + c] - rj.v[ro + c];
+      }
+    }
+  }
+};
+
+template <int D, class List, std::size_t C>
+void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
+  using Sel = typename Registry<List>::template Select<C>;
+  using N = Needs<D, Sel>;
+  using Lanes = typename N::Lanes;
+  using Record = typename N::Record;
+  constexpr std::size_t kStride = N::kStride;
+  constexpr unsigned kWrites = N::kWrites;
+
+  const WendlandC2<D> kernel(sp.h);
+  const TermContext<D> ctx{sp, kernel, kernel.w(0.0) / 16.0};
+
+  // 0. The records (every particle, ghosts included).
+  thread_local std::vector<PackedRecord<kStride>> records;
+  const std::size_t n = ps.size();
+  records.resize(n);
+  PackedRecord<kStride>* rec = records.data();
+  for (std::size_t i = 0; i < n; ++i)
+    FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
+
+  [&]<class... S>(TermList<S...>) {
+    const std::tuple<typename S::Term...> terms{make_term<typename S::Term>(ctx)...};
+    const double support2 = 4.0 * sp.h * sp.h;
+    const double grad_scale = sp.grad_scale;
+    const double inv_h = 1.0 / sp.h;
+    const double kf = -10.0 * ctx.kw;
+    Vec<D> g;
+    for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
+    const std::int32_t* nb = nl.indices();
+    constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
+    alignas(64) double lanes[Lanes::kSize * kChunk];
+    alignas(64) double acc_lane[D][kChunk];  // per-pair acceleration
+    alignas(64) double drho_lane[kChunk];    // per-pair density rate
+
+    for (std::size_t i = 0; i < ps.n_owned; ++i) {
+      if (ps.kind[i] != Kind::Fluid) continue;
+      const double* own = rec[i].v;
+      const std::tuple<typename S::Term...> bound{for_particle(
+          std::get<typename S::Term>(terms),
+          OwnView<Record, typename MergeAll<false, typename S::Term::Reads,
+                                            typename OwnReadsOf<typename S::Term>::type>::type>{
+              own})...};
+      Vec<D> acc = Vec<D>::Zero();
+      double drho_sum = 0.0;
+      for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
+        const std::size_t cnt = std::min(kChunk, e - b);
+
+        // 1. Gather.
+        for (std::size_t k = 0; k < cnt; ++k)
+          GatherLanes<D, typename N::LaneFields>::template run<Lanes, Record>(own, rec[nb[b + k]],
+                                                                              k, lanes);
+
+        // 2. Pair terms, branch-free (vectorized).
+        for (std::size_t k = 0; k < cnt; ++k) {
+          double r2 = 0.0;
+          for (int d = 0; d < D; ++d) {
+            const double x = lanes[(kPos + d) * kChunk + k];
+            r2 += x * x;
+          }
+          const bool inside = r2 < support2;
+          const double r = std::sqrt(r2);
+          const double q = r * inv_h;
+          const double t = inside ? 2.0 - q : 0.0;
+          // WendlandC2::f (kernel.hpp), the same operations without the branch.
+          const double F = kf * t * t * t * inv_h * inv_h * grad_scale;
+          PairSums s;
+          (pair_of<S>(
+               std::get<typename S::Term>(bound),
+               PairView<D, Lanes, Record, typename S::Term::Reads,
+                        typename OwnReadsOf<typename S::Term>::type>{lanes, k, own, r2, r, q, t, F},
+               s),
+           ...);
+          double pf = 0.0;
+          if constexpr ((kWrites & kBracket) != 0)
+            pf = lanes[Lanes::template offset<field::Mass>() * kChunk + k] * s.bracket * F;
+          for (int d = 0; d < D; ++d) {
+            const double x = lanes[(kPos + d) * kChunk + k];
+            if constexpr ((kWrites & kVisc) != 0) {
+              const double w = lanes[(Lanes::template offset<field::VelWall>() + d) * kChunk + k];
+              if constexpr ((kWrites & kBracket) != 0)
+                acc_lane[d][k] = s.visc * w - pf * x;
+              else
+                acc_lane[d][k] = s.visc * w;
+            } else if constexpr ((kWrites & kBracket) != 0) {
+              acc_lane[d][k] = -(pf * x);
+            } else {
+              acc_lane[d][k] = 0.0;
+            }
+          }
+          drho_lane[k] = (kWrites & kDrho) != 0 ? s.drho : 0.0;
+        }
+
+        // 3. Sum in list (global-id) order.
+        for (std::size_t k = 0; k < cnt; ++k) {
+          for (int d = 0; d < D; ++d) acc[d] += acc_lane[d][k];
+          drho_sum += drho_lane[k];
+        }
+      }
+      ps.a[i] = acc + g;
+      ps.drho[i] = drho_sum;
+    }
+  }(Sel{});
+}
+
+// What one combination runs: its terms (with variants) and its record.
+struct LoopDescription {
+  std::size_t combination = 0;
+  std::vector<std::string> terms;
+  std::vector<int> variants;
+  std::vector<std::string> record;  // fields packed per particle
+  std::vector<std::string> lanes;   // fields gathered per neighbour
+  std::size_t record_bytes = 0;
+};
+
+template <int D, class List, std::size_t C>
+LoopDescription describe_loop() {
+  using N = Needs<D, typename Registry<List>::template Select<C>>;
+  LoopDescription out;
+  out.combination = C;
+  [&]<class... S>(TermList<S...>) {
+    out.terms = {S::Term::name...};
+    out.variants = {S::kVariant...};
+  }(typename Registry<List>::template Select<C>{});
+  out.record = N::Record::names();
+  out.lanes = N::Lanes::names();
+  out.record_bytes = N::kStride * sizeof(double);
+  return out;
+}
+
+template <int D, class List>
+using LoopFn = void (*)(const SphParams&, const NeighborList<D>&, SphParticles<D>&);
+
+template <int D, class List, std::size_t... C>
+constexpr std::array<LoopFn<D, List>, sizeof...(C)> loop_table(std::index_sequence<C...>) {
+  return {&rates_loop<D, List, C>...};
+}
+template <int D, class List, std::size_t... C>
+std::array<LoopDescription (*)(), sizeof...(C)> description_table(std::index_sequence<C...>) {
+  return {&describe_loop<D, List, C>...};
+}
+
+// Continuity and momentum of every owned resin particle from the terms of
+// List that sp switches on.
+template <int D, class List>
+void run_pair_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
+  static constexpr auto table =
+      loop_table<D, List>(std::make_index_sequence<Registry<List>::kCombinations>{});
+  table[Registry<List>::combination(sp)](sp, nl, ps);
+}
+
+// The combination run_pair_loop picks for sp, for tests and logs.
+template <int D, class List>
+LoopDescription describe_pair_loop(const SphParams& sp) {
+  static const auto table =
+      description_table<D, List>(std::make_index_sequence<Registry<List>::kCombinations>{});
+  return table[Registry<List>::combination(sp)]();
+}
+
+}  // namespace sphdem::terms

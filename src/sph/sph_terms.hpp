@@ -1,0 +1,20 @@
+#pragma once
+// The registry of the resin's pair terms: the pair loop (pair_loop.hpp)
+// runs the active ones in this order, which is also the order their
+// contributions are added (density rate, bracket, viscous factor), so
+// moving a term changes results at round-off level. Adding a term: one
+// header in terms/ (term_interface.hpp says what it holds), its #include
+// and its name in the list (docs/architecture.md, "Adding a physics term").
+#include "terms/anti_clump.hpp"
+#include "terms/artificial_viscosity.hpp"
+#include "terms/continuity.hpp"
+#include "terms/delta_sph.hpp"
+#include "terms/pressure.hpp"
+#include "terms/viscosity_morris.hpp"
+
+namespace sphdem::terms {
+
+using SphTerms =
+    TermList<Continuity, DeltaSph, Pressure, ArtificialViscosity, AntiClump, MorrisViscosity>;
+
+}  // namespace sphdem::terms

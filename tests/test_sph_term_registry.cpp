@@ -1,0 +1,335 @@
+// The registry of SPH pair terms (src/sph/sph_terms.hpp) and the pair loop
+// generated from it (src/sph/pair_loop.hpp): which combination a case
+// selects, which fields its record holds, that the generated loop equals a
+// direct sum of the terms' formulas, and that a term written outside the
+// library joins the loop through a term list alone.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "../src/sph/pair_loop.hpp"
+#include "../src/sph/sph_terms.hpp"
+
+namespace sphdem {
+namespace {
+
+using terms::describe_pair_loop;
+using terms::SphTerms;
+
+SphParams base_params() {
+  SphParams sp;
+  sp.h = 1.2e-3;
+  sp.spacing = 1.0e-3;
+  sp.rho0 = 1000;
+  sp.c0 = 10;
+  sp.mu = 0.1;
+  sp.mu_scale = 1.05;
+  sp.grad_scale = 1.03;
+  sp.alpha = 0;
+  sp.delta = 0;
+  sp.anti_clump = true;
+  sp.anti_clump_eps = 0.2;
+  sp.anti_clump_n = 4;
+  sp.eta2 = 0.01 * sp.h * sp.h;
+  sp.body_force = {0.5, -9.81, 0.25};
+  return sp;
+}
+
+bool has(const std::vector<std::string>& v, const std::string& s) {
+  return std::find(v.begin(), v.end(), s) != v.end();
+}
+
+TEST(SphTermRegistry, SelectsTheTermsAndVariantsTheCaseSwitchesOn) {
+  EXPECT_EQ(terms::Registry<SphTerms>::kCombinations, 24u);  // delta, AV, mu: 2; clump: 3
+
+  SphParams sp = base_params();  // the channel: Morris + anti-clump n = 4
+  auto d = describe_pair_loop<2, SphTerms>(sp);
+  EXPECT_EQ(d.terms, (std::vector<std::string>{"continuity", "pressure", "anti_clump", "morris"}));
+  EXPECT_EQ(d.variants, (std::vector<int>{0, 0, 0, 0}));
+
+  sp.anti_clump_n = 3;  // the general exponent
+  d = describe_pair_loop<2, SphTerms>(sp);
+  EXPECT_EQ(d.variants, (std::vector<int>{0, 0, 1, 0}));
+
+  sp.delta = 0.1;
+  sp.alpha = 0.05;
+  d = describe_pair_loop<3, SphTerms>(sp);
+  EXPECT_EQ(d.terms, (std::vector<std::string>{"continuity", "delta_sph", "pressure",
+                                               "artificial_viscosity", "anti_clump", "morris"}));
+
+  sp = base_params();
+  sp.mu = 0;
+  sp.anti_clump = false;
+  d = describe_pair_loop<2, SphTerms>(sp);
+  EXPECT_EQ(d.terms, (std::vector<std::string>{"continuity", "pressure"}));
+
+  // Every switch setting picks its own instantiation.
+  std::set<std::size_t> seen;
+  for (double mu : {0.0, 0.1})
+    for (double alpha : {0.0, 0.05})
+      for (double delta : {0.0, 0.1})
+        for (int clump : {0, 4, 2}) {
+          sp = base_params();
+          sp.mu = mu;
+          sp.alpha = alpha;
+          sp.delta = delta;
+          sp.anti_clump = clump != 0;
+          sp.anti_clump_n = clump == 0 ? 4 : clump;
+          seen.insert(describe_pair_loop<2, SphTerms>(sp).combination);
+        }
+  EXPECT_EQ(seen.size(), 24u);
+}
+
+// Each active term's declared fields, collected at run time from its type.
+template <int D, class... T>
+void collect_reads(terms::TermList<T...>, const std::string& name, std::vector<std::string>& lanes,
+                   std::vector<std::string>& own) {
+  (
+      [&] {
+        if (name != T::name) return;
+        lanes = terms::Layout<D, typename T::Reads>::names();
+        own = terms::Layout<D, typename terms::OwnReadsOf<T>::type>::names();
+      }(),
+      ...);
+}
+
+TEST(SphTermRegistry, TheRecordHoldsWhatTheActiveTermsDeclareAndNoMore) {
+  for (double mu : {0.0, 0.1})
+    for (double alpha : {0.0, 0.05})
+      for (double delta : {0.0, 0.1})
+        for (bool clump : {false, true}) {
+          SphParams sp = base_params();
+          sp.mu = mu;
+          sp.alpha = alpha;
+          sp.delta = delta;
+          sp.anti_clump = clump;
+          const auto d = describe_pair_loop<2, SphTerms>(sp);
+          for (const auto& t : d.terms) {
+            std::vector<std::string> lanes, own;
+            collect_reads<2>(SphTerms{}, t, lanes, own);
+            for (const auto& f : lanes) {
+              EXPECT_TRUE(has(d.lanes, f)) << t << " reads lane " << f;
+              EXPECT_TRUE(has(d.record, f)) << t << " reads " << f;
+            }
+            for (const auto& f : own) EXPECT_TRUE(has(d.record, f)) << t << " reads own " << f;
+          }
+          EXPECT_EQ(d.record_bytes % 64, 0u);
+        }
+
+  // The channel (Morris + anti-clump): rho is read only for particle i, so
+  // it is packed but not gathered; no resin flag; two cache lines.
+  SphParams sp = base_params();
+  auto d = describe_pair_loop<2, SphTerms>(sp);
+  EXPECT_TRUE(has(d.record, "rho"));
+  EXPECT_FALSE(has(d.lanes, "rho"));
+  EXPECT_FALSE(has(d.record, "fluid"));
+  EXPECT_TRUE(has(d.lanes, "anti_clump_r"));
+  EXPECT_EQ(d.record_bytes, 128u);
+  // Continuity and pressure alone: x, v, m, P/rho^2 fit one cache line.
+  sp.mu = 0;
+  sp.anti_clump = false;
+  d = describe_pair_loop<2, SphTerms>(sp);
+  EXPECT_EQ(std::set<std::string>(d.record.begin(), d.record.end()),
+            (std::set<std::string>{"x", "v", "m", "p_over_rho2"}));
+  EXPECT_EQ(d.record_bytes, 64u);
+}
+
+// A jittered lattice of resin with a row of walls below, negative pressure
+// in places (anti-clump R_a), moving walls (no-slip vw != v).
+template <int D>
+SphParticles<D> cloud(const SphParams& sp, std::uint32_t seed) {
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  SphParticles<D> ps;
+  const int n = 5, nz = D == 3 ? 4 : 1;
+  std::int64_t id = 0;
+  for (int layer = 0; layer < 2; ++layer)  // walls first, then resin: a layout unlike gid order
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        for (int k = 0; k < nz; ++k) {
+          const bool wall = j == 0;
+          if ((layer == 0) != wall) continue;
+          Vec<D> x, v;
+          x[0] = (i + 0.2 * u(gen)) * sp.spacing;
+          x[1] = (j + 0.2 * u(gen)) * sp.spacing;
+          if constexpr (D == 3) x[2] = (k + 0.2 * u(gen)) * sp.spacing;
+          for (int c = 0; c < D; ++c) v[c] = 0.3 * u(gen);
+          const double rho = sp.rho0 * (1.0 + 0.01 * u(gen));
+          ps.push_owned(1000 - 7 * id++, wall ? Kind::Wall : Kind::Fluid, -1,
+                        rho * std::pow(sp.spacing, D) * (1.0 + 0.1 * u(gen)), x, v, rho);
+          const std::size_t p = ps.size() - 1;
+          ps.p[p] = 50.0 * u(gen);
+          for (int c = 0; c < D; ++c) ps.vwall[p][c] = wall ? 0.3 * u(gen) : v[c];
+        }
+  return ps;
+}
+
+// The rates as a direct sum of the terms' formulas (the pre-registry loop,
+// scalar, with the kernel class).
+template <int D>
+void direct_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
+                  std::vector<Vec<D>>& a, std::vector<double>& drho) {
+  const WendlandC2<D> kernel(sp.h);
+  a.assign(ps.size(), Vec<D>::Zero());
+  drho.assign(ps.size(), 0.0);
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    const double por2_i = terms::pressure_over_rho2(ps.p[i], ps.rho[i]);
+    for (std::size_t b = nl.begin(i); b < nl.end(i); ++b) {
+      const auto j = static_cast<std::size_t>(nl.indices()[b]);
+      const Vec<D> x = ps.x[i] - ps.x[j];
+      const double r2 = x.squaredNorm(), r = std::sqrt(r2);
+      const double F = kernel.f(r) * sp.grad_scale;
+      const double por2_j = terms::pressure_over_rho2(ps.p[j], ps.rho[j]);
+      const double vol_j = ps.mass[j] / ps.rho[j];
+      const Vec<D> w = ps.v[i] - ps.vwall[j];
+      drho[i] += terms::continuity(ps.mass[j], F, (ps.v[i] - ps.v[j]).dot(x));
+      if (sp.delta > 0 && ps.kind[j] == Kind::Fluid)
+        drho[i] += terms::delta_sph(sp.delta * sp.h * sp.c0, ps.rho[i], ps.rho[j], vol_j, F);
+      double bracket = por2_i + por2_j;
+      if (sp.alpha > 0)
+        bracket += terms::artificial_viscosity(sp.alpha * sp.c0 * sp.h, w.dot(x), r2, sp.eta2,
+                                               ps.rho[i], ps.rho[j]);
+      if (sp.anti_clump)
+        bracket += terms::anti_clump(terms::anti_clump_r(sp.anti_clump_eps, por2_i),
+                                     terms::anti_clump_r(sp.anti_clump_eps, por2_j), por2_i, por2_j,
+                                     kernel.w(r) / kernel.w(sp.spacing), sp.anti_clump_n);
+      a[i] -= ps.mass[j] * bracket * F * x;
+      if (sp.mu > 0)
+        a[i] += terms::morris_viscosity(2.0 * sp.mu * sp.mu_scale / sp.grad_scale / ps.rho[i],
+                                        vol_j, F, r2, sp.eta2) *
+                w;
+    }
+    a[i] += to_vec<D>(sp.body_force);
+  }
+}
+
+template <int D>
+void expect_loop_matches_direct_sum(const SphParams& sp) {
+  SphParticles<D> ps = cloud<D>(sp, 7);
+  NeighborList<D> nl(2.0 * sp.h, 0.3 * sp.h);
+  nl.build(ps);
+  compute_fluid_rates<D>(sp, nl, ps);
+  std::vector<Vec<D>> a;
+  std::vector<double> drho;
+  direct_rates<D>(sp, nl, ps, a, drho);
+  double a_scale = 0, drho_scale = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    a_scale = std::max(a_scale, a[i].norm());
+    drho_scale = std::max(drho_scale, std::abs(drho[i]));
+  }
+  ASSERT_GT(a_scale, 0);
+  ASSERT_GT(drho_scale, 0);
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    EXPECT_LE((ps.a[i] - a[i]).norm(), 1e-12 * a_scale) << "particle " << i;
+    EXPECT_LE(std::abs(ps.drho[i] - drho[i]), 1e-12 * drho_scale) << "particle " << i;
+  }
+}
+
+TEST(SphPairLoop, EqualsTheDirectSumOfTheTermsInEveryCombination) {
+  for (double mu : {0.0, 0.1})
+    for (double alpha : {0.0, 0.05})
+      for (double delta : {0.0, 0.1})
+        for (int clump : {0, 4, 3}) {
+          SphParams sp = base_params();
+          sp.mu = mu;
+          sp.alpha = alpha;
+          sp.delta = delta;
+          sp.anti_clump = clump != 0;
+          sp.anti_clump_n = clump == 0 ? 4 : clump;
+          SCOPED_TRACE(testing::Message() << "mu " << mu << " alpha " << alpha << " delta " << delta
+                                          << " clump " << clump);
+          expect_loop_matches_direct_sum<2>(sp);
+          expect_loop_matches_direct_sum<3>(sp);
+        }
+}
+
+// A term written outside the library: a per-particle prepared field (the
+// record computes it once per particle), a per-particle part and a pair
+// function. It joins the loop through a term list alone.
+namespace field {
+struct Tag : terms::ScalarField {
+  static constexpr const char* name = "tag";
+  template <int D>
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    out[0] = 1.0 + static_cast<double>(ps.gid[i] % 5);
+  }
+};
+}  // namespace field
+
+struct TaggedDensityRate {
+  static constexpr const char* name = "tagged";
+  using Reads = terms::Fields<field::Tag>;
+  using OwnReads = terms::Fields<terms::field::Rho>;
+  static constexpr unsigned writes = terms::kDrho;
+  static bool active(const SphParams& sp) { return sp.delta > 0; }  // a switch for the test
+
+  double scale, own_part = 0;
+  template <int D>
+  explicit TaggedDensityRate(const terms::TermContext<D>& c) : scale(c.sp.delta) {}
+  template <class I>
+  TaggedDensityRate for_particle(const I& i) const {
+    TaggedDensityRate b = *this;
+    b.own_part = scale * i.own_value(terms::field::Rho{});
+    return b;
+  }
+  template <class P>
+  void pair(const P& p, terms::PairSums& s) const {
+    s.drho += own_part * p.lane(field::Tag{}) * p.F;
+  }
+};
+
+TEST(SphPairLoop, ATermOutsideTheLibraryJoinsThroughTheListAlone) {
+  using List = terms::TermList<terms::Continuity, TaggedDensityRate, terms::Pressure>;
+  SphParams sp = base_params();
+  sp.delta = 0.5;
+  const auto d = describe_pair_loop<2, List>(sp);
+  EXPECT_EQ(d.terms, (std::vector<std::string>{"continuity", "tagged", "pressure"}));
+  EXPECT_TRUE(has(d.lanes, "tag"));
+
+  SphParticles<2> ps = cloud<2>(sp, 11);
+  NeighborList<2> nl(2.0 * sp.h, 0.3 * sp.h);
+  nl.build(ps);
+  terms::run_pair_loop<2, List>(sp, nl, ps);
+  const WendlandC2<2> kernel(sp.h);
+  int checked = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    double drho = 0.0;
+    Vec<2> a = to_vec<2>(sp.body_force);
+    for (std::size_t b = nl.begin(i); b < nl.end(i); ++b) {
+      const auto j = static_cast<std::size_t>(nl.indices()[b]);
+      const Vec<2> x = ps.x[i] - ps.x[j];
+      const double F = kernel.f(x.norm()) * sp.grad_scale;
+      drho += ps.mass[j] * F * (ps.v[i] - ps.v[j]).dot(x);
+      drho += sp.delta * ps.rho[i] * (1.0 + static_cast<double>(ps.gid[j] % 5)) * F;
+      a -= ps.mass[j] *
+           (terms::pressure_over_rho2(ps.p[i], ps.rho[i]) +
+            terms::pressure_over_rho2(ps.p[j], ps.rho[j])) *
+           F * x;
+    }
+    EXPECT_NEAR(ps.drho[i], drho, 1e-12 * std::abs(drho) + 1e-12);
+    EXPECT_LE((ps.a[i] - a).norm(), 1e-12 * a.norm());
+    ++checked;
+  }
+  EXPECT_GT(checked, 10);
+
+  // Switched off, the loop is continuity and pressure only.
+  SphParticles<2> off = ps;
+  sp.delta = 0;
+  terms::run_pair_loop<2, List>(sp, nl, off);
+  terms::run_pair_loop<2, terms::TermList<terms::Continuity, terms::Pressure>>(sp, nl, ps);
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    EXPECT_EQ(off.drho[i], ps.drho[i]);
+    EXPECT_EQ(off.a[i], ps.a[i]);
+  }
+}
+
+}  // namespace
+}  // namespace sphdem
