@@ -207,6 +207,8 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   EXPECT_EQ(forward_bytes(3, SphGroup::State), 8u * 7);
   EXPECT_EQ(forward_bytes(2, SphGroup::WallState), 8u * 4);  // rho, p, vwall
   EXPECT_EQ(forward_bytes(3, SphGroup::WallState), 8u * 5);
+  EXPECT_EQ(forward_bytes(2, SphGroup::ShearRate), 8u);  // shear_rate, after its pass
+  EXPECT_EQ(forward_bytes(3, SphGroup::ShearRate), 8u);
   const auto dem_bytes = [](auto ps, DemGroup g) {
     return record_bytes(ps, [g](FieldPolicy p) { return p.in(group_bit(g)); });
   };
