@@ -60,7 +60,7 @@ bool pass_needed(const SphParams& sp, TermList<Ts...>) {
 template <class Terms, class... Ps>
 std::vector<std::string> needed_passes(const SphParams& sp, PassList<Ps...>) {
   std::vector<std::string> names;
-  ((pass_needed<Ps>(sp, Terms{}) ? names.emplace_back(Ps::name) : void()), ...);
+  ((pass_needed<Ps>(sp, Terms{}) ? void(names.emplace_back(Ps::name)) : void()), ...);
   return names;
 }
 
