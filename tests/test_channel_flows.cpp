@@ -15,8 +15,11 @@ namespace sphdem {
 namespace {
 
 constexpr double kL = 1e-3, kNu = 1e-6;
-// Shear rate against |du/dy| (relative L2 over the interior): TBD from measurement.
-constexpr double kShearRateTolerance = 0.05;
+// Shear rate against |du/dy| (relative L2 over the particles 2h from both
+// plates): measured 0.26 % at nu t/L^2 = 0.05, 0.04 % at steady state.
+// 2 % leaves room for platform differences and still fails for a gradient
+// without the lattice correction (3.6 % short in 2D) or of the wrong field.
+constexpr double kShearRateTolerance = 0.02;
 
 // Runs the case and compares u_x(y) with `exact(y, t)` at nu t / L^2 = 0.05,
 // 0.1 and 0.2 (transient) and at t = 1 s (nu t / L^2 = 1: steady, the slowest
@@ -70,7 +73,8 @@ TEST(Couette, TransientAndSteadyProfiles) {
         const double err = testing::relative_l2_shear_rate<2>(
             sim.particles(), 2.0 * c.h(), kL,
             [&](double y) { return std::abs(testing::couette_shear(y, sim.time(), kL, kNu, v0)); });
-        std::printf("[          ] t = %.3f s: shear rate relative L2 error %.4f\n", sim.time(), err);
+        std::printf("[          ] t = %.3f s: shear rate relative L2 error %.4f\n", sim.time(),
+                    err);
         EXPECT_LT(err, kShearRateTolerance) << "shear rate at t = " << sim.time();
         ++checks;
       });

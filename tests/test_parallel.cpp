@@ -378,9 +378,9 @@ TEST(Snapshots, DatasetsEqualThoseOfOneRank) {
   const auto one = read_datasets(one_file), many = read_datasets(n_file);
   ASSERT_EQ(one.size(), many.size());
   EXPECT_GE(one.size(), 16u) << "fluid and wall: id, position and seven fields";
-  EXPECT_TRUE(std::any_of(one.begin(), one.end(),
-                          [](const auto& d) { return d.first.find("shear_rate") != std::string::npos; }))
-      << "the shear-rate pass's field";
+  EXPECT_TRUE(std::any_of(one.begin(), one.end(), [](const auto& d) {
+    return d.first.find("shear_rate") != std::string::npos;
+  })) << "the shear-rate pass's field";
   for (const auto& [name, bytes] : one) {
     ASSERT_TRUE(many.count(name)) << name;
     EXPECT_TRUE(bytes == many.at(name)) << "dataset " << name << " differs";
