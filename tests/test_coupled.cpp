@@ -178,8 +178,7 @@ TEST(Coupled, MomentumBalanceEveryStep) {
     sim.advance(1);
     worst = std::max(worst, sim.coupling_momentum_residual());
     double drag = 0;
-    for (std::size_t f = 0; f < fibers.n_owned; ++f)
-      drag += fibers.mean_drag[f].norm();
+    for (std::size_t f = 0; f < fibers.n_owned; ++f) drag += fibers.mean_drag[f].norm();
     weakest = std::min(weakest, world.sum(drag));
     ghost_fibers += static_cast<std::int64_t>(fibers.size() - fibers.n_owned);
   }
