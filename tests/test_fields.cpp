@@ -207,14 +207,17 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   EXPECT_EQ(forward_bytes(3, SphGroup::State), 8u * 7);
   EXPECT_EQ(forward_bytes(2, SphGroup::WallState), 8u * 4);  // rho, p, vwall
   EXPECT_EQ(forward_bytes(3, SphGroup::WallState), 8u * 5);
+  EXPECT_EQ(forward_bytes(2, SphGroup::ShearRate), 8u);  // shear_rate, after its pass
+  EXPECT_EQ(forward_bytes(3, SphGroup::ShearRate), 8u);
   const auto dem_bytes = [](auto ps, DemGroup g) {
     return record_bytes(ps, [g](FieldPolicy p) { return p.in(group_bit(g)); });
   };
   EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::State), 8u * 5);  // x, v, omega
   EXPECT_EQ(dem_bytes(DemParticles<3>(), DemGroup::State), 8u * 9);
   EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::Coupling), 8u * 3);  // shepard_sum, mean_drag
-  EXPECT_EQ(sph_output_fields(), (std::vector<std::string>{"kind", "wall_id", "velocity", "density",
-                                                           "pressure", "acceleration"}));
+  EXPECT_EQ(sph_output_fields(),
+            (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "pressure",
+                                      "acceleration", "shear_rate"}));
   std::vector<std::string> sph, dem;
   for (const CheckpointColumn& c : checkpoint_columns(SphParticles<2>{})) sph.push_back(c.name);
   for (const CheckpointColumn& c : checkpoint_columns(DemParticles<2>{})) dem.push_back(c.name);

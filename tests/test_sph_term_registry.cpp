@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "../src/sph/pair_loop.hpp"
+#include "../src/sph/pass_loop.hpp"
 #include "../src/sph/sph_terms.hpp"
 
 namespace sphdem {
@@ -329,6 +330,117 @@ TEST(SphPairLoop, ATermOutsideTheLibraryJoinsThroughTheListAlone) {
     EXPECT_EQ(off.drho[i], ps.drho[i]);
     EXPECT_EQ(off.a[i], ps.a[i]);
   }
+}
+
+// A neighbour-sum pass written outside the library (how many neighbours lie
+// inside the support, into the registered field shear_rate) and a term that
+// reads the result on its neighbours. The engine runs the pass only when
+// the term is on, then asks for the pass's group to be forwarded: here the
+// "halo" fills the ghosts (the last particles, not owned) by hand, and the
+// term's sum over owned particles only matches if that happened between
+// the pass and the pair loop.
+struct SupportCountPass {
+  static constexpr const char* name = "support_count";
+  using Reads = terms::Fields<terms::field::Pos>;
+  using Output = terms::field::ShearRate;
+  static constexpr SphGroup group = SphGroup::ShearRate;
+  template <int D>
+  static constexpr std::size_t kSums = 1;
+  template <int D>
+  static std::vector<double>& output(SphParticles<D>& ps) {
+    return ps.shear_rate;
+  }
+  template <class P>
+  void pair(const P& p, double* s) const {
+    s[0] = p.t > 0.0 ? 1.0 : 0.0;
+  }
+  template <int D>
+  double finish(const double* sums) const {
+    return 10.0 * sums[0];
+  }
+};
+
+struct CountDensityRate {
+  static constexpr const char* name = "count_rate";
+  using Reads = terms::Fields<terms::field::ShearRate>;
+  static constexpr unsigned writes = terms::kDrho;
+  static bool active(const SphParams& sp) { return sp.delta > 0; }
+  template <class P>
+  void pair(const P& p, terms::PairSums& s) const {
+    s.drho += p.t > 0.0 ? p.lane(terms::field::ShearRate{}) : 0.0;
+  }
+};
+
+TEST(SphPasses, APassRunsBeforeTheLoopWhenAnActiveTermReadsIt) {
+  using List = terms::TermList<terms::Continuity, CountDensityRate>;
+  using Passes = terms::PassList<SupportCountPass>;
+  SphParams sp = base_params();
+  sp.delta = 0.5;
+  SphParticles<2> ps = cloud<2>(sp, 5);
+  ps.n_owned -= 6;  // the last resin particles play ghosts
+  NeighborList<2> nl(2.0 * sp.h, 0.3 * sp.h);
+  nl.build(ps);
+  // The reference: every particle's support count, brute force.
+  std::vector<double> count(ps.size(), 0.0);
+  for (std::size_t i = 0; i < ps.size(); ++i)
+    for (std::size_t j = 0; j < ps.size(); ++j)
+      if (i != j && ps.kind[i] == Kind::Fluid && (ps.x[i] - ps.x[j]).norm() < 2.0 * sp.h)
+        count[i] += 1.0;
+
+  EXPECT_EQ(terms::needed_passes<List>(sp, Passes{}), std::vector<std::string>{"support_count"});
+  std::vector<SphGroup> forwarded;
+  terms::run_passes<2, List>(
+      sp, nl, ps,
+      [&](SphGroup g) {
+        forwarded.push_back(g);
+        for (std::size_t i = ps.n_owned; i < ps.size(); ++i) ps.shear_rate[i] = 10.0 * count[i];
+      },
+      Passes{});
+  EXPECT_EQ(forwarded, std::vector<SphGroup>{SphGroup::ShearRate});
+  terms::run_pair_loop<2, List>(sp, nl, ps);
+  int checked = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) {
+      EXPECT_EQ(ps.shear_rate[i], 0.0);
+      continue;
+    }
+    ASSERT_EQ(ps.shear_rate[i], 10.0 * count[i]) << "particle " << i;
+    double drho = 0.0, sum = 0.0;
+    for (std::size_t b = nl.begin(i); b < nl.end(i); ++b) {
+      const auto j = static_cast<std::size_t>(nl.indices()[b]);
+      const Vec<2> x = ps.x[i] - ps.x[j];
+      drho +=
+          ps.mass[j] * WendlandC2<2>(sp.h).f(x.norm()) * sp.grad_scale * (ps.v[i] - ps.v[j]).dot(x);
+      if (x.norm() < 2.0 * sp.h) sum += 10.0 * count[j];
+    }
+    EXPECT_NEAR(ps.drho[i], drho + sum, 1e-12 * std::abs(drho + sum)) << "particle " << i;
+    ++checked;
+  }
+  EXPECT_GT(checked, 10);
+
+  // The term off: the pass does not run, nothing is forwarded.
+  sp.delta = 0;
+  EXPECT_TRUE(terms::needed_passes<List>(sp, Passes{}).empty());
+  std::fill(ps.shear_rate.begin(), ps.shear_rate.end(), -1.0);
+  forwarded.clear();
+  terms::run_passes<2, List>(
+      sp, nl, ps, [&](SphGroup g) { forwarded.push_back(g); }, Passes{});
+  EXPECT_TRUE(forwarded.empty());
+  EXPECT_EQ(ps.shear_rate[0], -1.0);
+  // Named in output.fields, it runs without a term.
+  sp.output_fields = {"support_count"};
+  EXPECT_EQ(terms::needed_passes<List>(sp, Passes{}), std::vector<std::string>{"support_count"});
+}
+
+// The library's passes: the shear rate runs when output.fields names it.
+TEST(SphPasses, TheShearRateRunsWhenRequested) {
+  SphParams sp = base_params();
+  EXPECT_TRUE(terms::needed_passes<SphTerms>(sp, terms::SphPasses{}).empty());
+  sp.output_fields = {"velocity", "shear_rate"};
+  EXPECT_EQ(terms::needed_passes<SphTerms>(sp, terms::SphPasses{}),
+            std::vector<std::string>{"shear_rate"});
+  const auto names = sph_output_fields();
+  EXPECT_NE(std::find(names.begin(), names.end(), "shear_rate"), names.end());
 }
 
 }  // namespace

@@ -43,6 +43,31 @@ inline double couette(double y, double t, double L, double nu, double v0) {
   return u;
 }
 
+// du/dy of the start-up Couette flow above.
+inline double couette_shear(double y, double t, double L, double nu, double v0) {
+  double g = v0 / L;
+  for (int n = 1; n < 4000; ++n) {
+    g += 2 * v0 / L * (n % 2 == 0 ? 1.0 : -1.0) * std::cos(n * std::numbers::pi * y / L) *
+         std::exp(-nu * n * n * std::numbers::pi * std::numbers::pi * t / (L * L));
+  }
+  return g;
+}
+
+// Relative L2 error of the resin's shear rate (the shear_rate field) against
+// g(y), over the particles at least `margin` from y = 0 and y = L.
+template <int D, class G>
+double relative_l2_shear_rate(const SphParticles<D>& ps, double margin, double L, G&& g) {
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    const double y = ps.x[i][1];
+    if (ps.kind[i] != Kind::Fluid || y < margin || y > L - margin) continue;
+    const double ga = g(y);
+    num += (ps.shear_rate[i] - ga) * (ps.shear_rate[i] - ga);
+    den += ga * ga;
+  }
+  return std::sqrt(num / den);
+}
+
 // Relative L2 error of the resin's x velocity against u(y).
 template <int D, class F>
 double relative_l2_ux(const SphParticles<D>& ps, F&& u) {

@@ -29,8 +29,9 @@ enum class Kind : std::uint8_t { Fluid = 0, Wall = 1 };
 
 // The resin's per-step ghost exchanges (Halo::forward): State before the
 // rates, to every ghost; WallState after the wall extrapolation, to the
-// wall ghosts only (docs/parallel.md, "The step").
-enum class SphGroup : std::uint8_t { State = 0, WallState = 1 };
+// wall ghosts only (docs/parallel.md, "The step"); ShearRate after the
+// shear-rate pass, when it runs (src/sph/pass_loop.hpp).
+enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2 };
 
 // The SPH field registry (field_registry.hpp): X(type, member, policy).
 #define SPHDEM_SPH_FIELDS(X)                                                                      \
@@ -57,6 +58,8 @@ enum class SphGroup : std::uint8_t { State = 0, WallState = 1 };
   /* acceleration, density rate (owned fluid) */                                                  \
   X(Vec<D>, a, kMigrate | kCheckpoint | output_as("acceleration", "m/s^2"))                       \
   X(double, drho, kMigrate | kCheckpoint) /* [kg/m^3/s] */                                        \
+  /* sqrt(2 D:D), from a neighbour-sum pass when requested (src/sph/terms/shear_rate.hpp) */      \
+  X(double, shear_rate, in_group(SphGroup::ShearRate) | output_as("shear_rate", "1/s"))           \
   /* Integrator state within a step: half-step values (owned only). They */                       \
   /* migrate: the neighbor rebuild (and so migration) sits between the */                         \
   /* drift and the second kick, which reads them. */                                              \

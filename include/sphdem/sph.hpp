@@ -4,6 +4,8 @@
 // neighbor lists are here (fluid_rates.cpp, wall_boundary.cpp). Nothing in
 // this module knows about ranks: it reads ghosts and writes owned particles.
 #include <cstdint>
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "sphdem/case.hpp"
@@ -28,6 +30,9 @@ struct SphParams {
   int anti_clump_n = 4;
   double eta2 = 0;  // 0.01 h^2, keeps 1/r^2 terms finite
   Vec3a body_force{};
+  // output.fields: a neighbour-sum pass whose field is named here runs even
+  // when no active term reads it (src/sph/pass_loop.hpp).
+  std::vector<std::string> output_fields;
 };
 
 SphParams make_sph_params(const Case& c);
@@ -80,6 +85,17 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
 // laminar viscosity, body force) for every owned resin particle.
 template <int D>
 void compute_fluid_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps);
+
+// The neighbour-sum preparation passes that sp needs (src/sph/sph_terms.hpp,
+// SphPasses), in order: each writes one per-particle field of the owned
+// resin particles, then calls forward(group) so that the caller (the
+// solver; physics never calls MPI) refreshes that field's exchange group on
+// the ghosts before the next pass and the pair loop read it. Call it after
+// the wall state is current, before compute_fluid_rates. A pass that no
+// active term reads and output.fields does not name does not run.
+template <int D>
+void compute_fluid_passes(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
+                          const std::function<void(SphGroup)>& forward);
 
 // Largest speed (resin and walls) and resin acceleration over owned particles.
 struct LocalExtremes {

@@ -148,6 +148,10 @@ void ResinModule<D>::rates() {
     ScopedPhase t(timers_, Phase::Halo);
     halo_.forward(ps_, SphGroup::WallState);
   }
+  compute_fluid_passes<D>(sp_, nl_, ps_, [this](SphGroup g) {
+    ScopedPhase t(timers_, Phase::Halo);
+    halo_.forward(ps_, g);
+  });
   compute_fluid_rates<D>(sp_, nl_, ps_);
 }
 

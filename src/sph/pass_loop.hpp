@@ -1,0 +1,146 @@
+#pragma once
+// Neighbour-sum preparation passes: a per-particle quantity that the pair
+// terms of the same rate evaluation read on their neighbours (the shear
+// rate; later a normal or a curvature), so it must be complete on every
+// owned particle and refreshed on the ghosts before the pair loop runs
+// (docs/architecture.md, "Adding a physics term", "with a neighbour-sum
+// pass"). A pass is a struct with:
+//
+//   static constexpr const char* name;   // the output name of its field (output.fields)
+//   using Reads = Fields<...>;           // record fields read per neighbour
+//   using Output = <record field>;       // its result as terms read it (Reads of a term)
+//   static constexpr SphGroup group;     // the exchange group of its field
+//   template <int D> static constexpr std::size_t kSums;   // accumulators per particle
+//   template <int D> static std::vector<double>& output(SphParticles<D>&);
+//   explicit P(const TermContext<D>&);   // optional: its parameters
+//   void pair(const PairView&, double* s) const;   // s[0..kSums): this pair's part
+//   template <int D> double finish(const double* sums) const;   // the particle's value
+//
+// The loop is the pair loop's (pair_loop.hpp): records of the declared
+// fields, gathered lanes, a branch-free pair function over a chunk (pairs
+// beyond the support have F = 0), then a sequential sum in the neighbour
+// list's global-id order, so the result is the same bits at every rank
+// count. It writes the owned resin particles (walls get 0); the solver
+// forwards the group to the ghosts. A pass runs when an active term reads
+// its Output or output.fields names it, and never otherwise.
+#include <algorithm>
+#include <cstddef>
+#include <string_view>
+#include <vector>
+
+#include "pair_loop.hpp"
+
+namespace sphdem::terms {
+
+// A compile-time list of passes, run in this order (sph_terms.hpp).
+template <class... P>
+struct PassList {};
+
+template <class T, class F>
+inline constexpr bool reads_v =
+    contains_v<F, typename T::Reads> || contains_v<F, typename OwnReadsOf<T>::type>;
+
+template <class T>
+bool term_on(const SphParams& sp) {
+  if constexpr (OptionalTerm<T>)
+    return T::active(sp);
+  else
+    return true;
+}
+
+// Whether pass P runs for a case with the terms of Terms.
+template <class P, class... Ts>
+bool pass_needed(const SphParams& sp, TermList<Ts...>) {
+  const auto& out = sp.output_fields;
+  const bool requested = std::find(out.begin(), out.end(), std::string_view(P::name)) != out.end();
+  return requested || ((reads_v<Ts, typename P::Output> && term_on<Ts>(sp)) || ...);
+}
+
+// The passes that run for sp, by name, in order (for tests and logs).
+template <class Terms, class... Ps>
+std::vector<std::string> needed_passes(const SphParams& sp, PassList<Ps...>) {
+  std::vector<std::string> names;
+  ((pass_needed<Ps>(sp, Terms{}) ? void(names.emplace_back(Ps::name)) : void()), ...);
+  return names;
+}
+
+// Pass P over every owned resin particle.
+template <int D, class P>
+void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
+  using LaneFields = typename MergeAll<false, Fields<field::Pos>, typename P::Reads>::type;
+  using RecordFields = typename MergeAll<true, Fields<>, LaneFields>::type;
+  using Lanes = Layout<D, LaneFields>;
+  using Record = Layout<D, RecordFields>;
+  using View = PairView<D, Lanes, Record, typename P::Reads, Fields<>>;
+  constexpr std::size_t kStride = (Record::kSize + 7) / 8 * 8;
+  constexpr std::size_t kSums = P::template kSums<D>;
+
+  const WendlandC2<D> kernel(sp.h);
+  const TermContext<D> ctx{sp, kernel, kernel.w(0.0) / 16.0};
+  const P pass = make_term<P>(ctx);
+
+  thread_local std::vector<PackedRecord<kStride>> records;
+  const std::size_t n = ps.size();
+  records.resize(n);
+  PackedRecord<kStride>* rec = records.data();
+  for (std::size_t i = 0; i < n; ++i)
+    FillRecord<D, RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
+
+  const double support2 = 4.0 * sp.h * sp.h;
+  const double inv_h = 1.0 / sp.h;
+  const double kf = -10.0 * ctx.kw;
+  const std::int32_t* nb = nl.indices();
+  constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
+  alignas(64) double lanes[Lanes::kSize * kChunk];
+  alignas(64) double part[kSums][kChunk];
+  std::vector<double>& out = P::output(ps);
+
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) {
+      out[i] = 0.0;
+      continue;
+    }
+    const double* own = rec[i].v;
+    double sums[kSums] = {};
+    for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
+      const std::size_t cnt = std::min(kChunk, e - b);
+      for (std::size_t k = 0; k < cnt; ++k)
+        GatherLanes<D, LaneFields>::template run<Lanes, Record>(own, rec[nb[b + k]], k, lanes);
+      for (std::size_t k = 0; k < cnt; ++k) {
+        double r2 = 0.0;
+        for (int d = 0; d < D; ++d) {
+          const double x = lanes[(kPos + d) * kChunk + k];
+          r2 += x * x;
+        }
+        const bool inside = r2 < support2;
+        const double r = std::sqrt(r2);
+        const double q = r * inv_h;
+        const double t = inside ? 2.0 - q : 0.0;
+        // WendlandC2::f (kernel.hpp) with the lattice correction, as in the pair loop.
+        const double F = kf * t * t * t * inv_h * inv_h * sp.grad_scale;
+        double s[kSums];
+        pass.pair(View{lanes, k, own, r2, r, q, t, F}, s);
+        for (std::size_t m = 0; m < kSums; ++m) part[m][k] = s[m];
+      }
+      // In list (global-id) order.
+      for (std::size_t k = 0; k < cnt; ++k)
+        for (std::size_t m = 0; m < kSums; ++m) sums[m] += part[m][k];
+    }
+    out[i] = pass.template finish<D>(sums);
+  }
+}
+
+// The passes of Passes that sp needs, in order, each followed by
+// forward(its group).
+template <int D, class Terms, class Forward, class... Ps>
+void run_passes(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
+                const Forward& forward, PassList<Ps...>) {
+  const auto one = [&]<class P>(P*) {
+    if (!pass_needed<P>(sp, Terms{})) return;
+    run_pass<D, P>(sp, nl, ps);
+    forward(P::group);
+  };
+  (one(static_cast<Ps*>(nullptr)), ...);
+}
+
+}  // namespace sphdem::terms
