@@ -64,7 +64,7 @@ CouplingParams drag_params(const Case& c) {
 
 // One particle (a one-particle fiber) released at rest under gravity in
 // still resin settles at the slip where the drag carries its weight. The
-// model has no buoyancy on fibers (DESIGN 2.3), so rho_p g = K(eps, U) U,
+// model has no buoyancy on fibers (docs/physics.md "Coupling"), so rho_p g = K(eps, U) U,
 // with eps the void fraction at the particle (its own volume smoothed by
 // the kernel). The slip is measured against the Shepard resin velocity.
 // 3 %: the slip is averaged over 2 ms of SPH pressure noise.
@@ -178,8 +178,7 @@ TEST(Coupled, MomentumBalanceEveryStep) {
     sim.advance(1);
     worst = std::max(worst, sim.coupling_momentum_residual());
     double drag = 0;
-    for (std::size_t f = 0; f < fibers.n_owned; ++f)
-      drag += fibers.mean_drag[f].norm();
+    for (std::size_t f = 0; f < fibers.n_owned; ++f) drag += fibers.mean_drag[f].norm();
     weakest = std::min(weakest, world.sum(drag));
     ghost_fibers += static_cast<std::int64_t>(fibers.size() - fibers.n_owned);
   }

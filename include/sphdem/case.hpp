@@ -103,7 +103,7 @@ struct CheckpointSettings {
   int keep = 2;                         // newest checkpoints kept, older ones deleted
 };
 
-// Fibers as chains of bonded DEM particles (DESIGN 2.2, docs/dem.md),
+// Fibers as chains of bonded DEM particles (docs/dem.md),
 // placed at random in a box at the start. Lines are kept so that a
 // placement that fails later can still point at the case file.
 struct FiberSettings {

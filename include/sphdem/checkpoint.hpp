@@ -1,5 +1,5 @@
 #pragma once
-// Checkpoints (DESIGN 3.3, docs/checkpoint.md): the complete state of a run
+// Checkpoints (docs/checkpoint.md): the complete state of a run
 // in one HDF5 file, written collectively to a temporary name, flushed and
 // renamed, and readable on any rank count.
 //

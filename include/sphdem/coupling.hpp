@@ -1,5 +1,5 @@
 #pragma once
-// Two-way SPH-DEM coupling, the drag law (paper Eqs. 7, 8, 10; DESIGN 2.3
+// Two-way SPH-DEM coupling, the drag law (paper Eqs. 7, 8, 10; docs/physics.md "Coupling"
 // with its errata; docs/physics.md "Coupling"). The pair kernels that the
 // loops call (void fraction, Shepard filter, reaction, continuity with the
 // void fraction) live in src/coupling/terms/, one per header. Nothing here
@@ -41,7 +41,7 @@ inline double particle_volume(double d) {
   }
 }
 
-// Particle Reynolds number (DESIGN 2.3): Re = eps rho |vbar - v_f| d / mu.
+// Particle Reynolds number (docs/physics.md "Coupling"): Re = eps rho |vbar - v_f| d / mu.
 inline double particle_reynolds(const CouplingParams& c, double eps, double d, double slip) {
   return eps * c.rho * slip * d / c.mu;
 }
@@ -75,7 +75,7 @@ inline double drag_k(const CouplingParams& c, double eps, double d, double slip)
 
 // The momentum-exchange coefficient beta [kg/(m^3 s)] of paper Eq. 8 with
 // the errata (Wen & Yu's 3/4, not 7.5; the Ergun inertial term divides by
-// d_f): beta = (1 - eps) K. ANALYTIC.md 5 and OpenFOAM GidaspowErgunWenYu.
+// d_f): beta = (1 - eps) K. docs/validation.md section 5 and OpenFOAM GidaspowErgunWenYu.
 inline double drag_beta(const CouplingParams& c, double eps, double d, double slip) {
   return (1.0 - eps) * drag_k(c, eps, d, slip);
 }
@@ -110,7 +110,7 @@ double terminal_velocity(const CouplingParams& c, double rho_p, double d, double
 // Stokes limit (slip -> 0): tau = m / (K V) = rho_p / K(eps, d, 0). The slip
 // decays as exp(-t/tau) while the particle Reynolds number stays small. At
 // eps > eps_switch, tau = rho_p d^2 eps^2.65 / (18 mu). No added mass (the
-// model has none, unlike ANALYTIC.md 4's tau).
+// model has none, unlike docs/validation.md section 4's tau).
 double stokes_relaxation_time(const CouplingParams& c, double rho_p, double d, double eps);
 
 // The same, when the resin is a finite, uniform body of mass m_resin that

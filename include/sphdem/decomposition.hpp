@@ -1,5 +1,5 @@
 #pragma once
-// Domain decomposition (DESIGN 3.2, docs/parallel.md): a background grid of
+// Domain decomposition (docs/parallel.md): a background grid of
 // cells no smaller than the neighbor cut-off covers the simulation domain,
 // and every cell has an owner rank. A rank owns the particles whose position
 // lies in its cells. METIS partitions the graph of non-empty cells weighted

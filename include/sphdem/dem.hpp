@@ -1,5 +1,5 @@
 #pragma once
-// Fibers as bonded DEM particles (DESIGN 2.2, docs/dem.md): linear
+// Fibers as bonded DEM particles (docs/dem.md): linear
 // spring-dashpot contacts with an incremental Coulomb-capped tangential
 // spring, Potyondy & Cundall (2004) parallel bonds with breakage, and a
 // velocity-Verlet step for translation and rotation. The pair kernels live
@@ -17,12 +17,12 @@ namespace sphdem {
 // default): masses kg/m, forces N/m, stiffnesses N/m/m.
 template <int D>
 struct DemParams {
-  // Contacts (ANALYTIC.md 2).
+  // Contacts (docs/validation.md section 2).
   double kn = 0;                  // normal contact stiffness [N/m]
   double kt_over_kn = 2.0 / 7.0;  // tangential / normal contact stiffness
   double restitution = 0.9;       // normal restitution e, sets the damping per pair
   double friction = 0.3;          // Coulomb coefficient mu
-  // Parallel bonds (ANALYTIC.md 6).
+  // Parallel bonds (docs/validation.md section 6).
   double youngs_modulus = 0;  // E [Pa]: kbar_n = E / (R1 + R2) [Pa/m]
   double kbar_star = 0.25;    // kbar_n / kbar_s (paper: 0.25)
   double lambda = 1.0;        // bond radius multiplier, Rbar = lambda min(R1, R2)
@@ -35,7 +35,7 @@ struct DemParams {
   double dt_safety = 0.2;           // dt = dt_safety * min sqrt(m/k) (stable_dem_dt)
 };
 
-// The contact stiffness of DESIGN 2.2: a fraction of the bond's axial
+// The contact stiffness of docs/dem.md: a fraction of the bond's axial
 // stiffness kbar_n A for two equal particles of radius r (paper: 0.01).
 template <int D>
 double contact_stiffness_from_bond(const DemParams<D>& p, double r, double fraction = 0.01);

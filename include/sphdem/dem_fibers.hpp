@@ -1,5 +1,5 @@
 #pragma once
-// Random fiber placement (DESIGN 2.2, 2.4): straight chains of touching
+// Random fiber placement (docs/dem.md, 2.4): straight chains of touching
 // equal particles, bonded along the chain, placed in a box without overlap.
 #include <cstdint>
 #include <optional>

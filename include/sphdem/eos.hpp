@@ -1,5 +1,5 @@
 #pragma once
-// Tait equation of state (DESIGN 2.1): P = B ((rho/rho0)^gamma - 1),
+// Tait equation of state (docs/physics.md): P = B ((rho/rho0)^gamma - 1),
 // B = c0^2 rho0 / gamma. gamma = 7 takes a fast path.
 #include <cmath>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Wendland C2 kernel with support 2h (DESIGN 2.1). With q = r/h:
+// Wendland C2 kernel with support 2h (docs/physics.md). With q = r/h:
 //   W(q) = C (2 - q)^4 (1 + 2q)       for q <= 2, else 0
 //   C = 7 / (64 pi h^2) in 2D,  21 / (256 pi h^3) in 3D.
 // The gradient is written as grad_i W_ij = F(r) (x_i - x_j) with

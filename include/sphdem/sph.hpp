@@ -1,5 +1,5 @@
 #pragma once
-// Weakly compressible SPH for the resin (DESIGN 2.1). Each physics term
+// Weakly compressible SPH for the resin (docs/physics.md). Each physics term
 // lives in its own header under src/sph/terms/; the loops that visit the
 // neighbor lists are here (fluid_rates.cpp, wall_boundary.cpp). Nothing in
 // this module knows about ranks: it reads ghosts and writes owned particles.
@@ -89,7 +89,7 @@ struct LocalExtremes {
 template <int D>
 LocalExtremes local_extremes(const SphParticles<D>& ps);
 
-// Adaptive time step (DESIGN 2.1): the smallest of the CFL, force and
+// Adaptive time step (docs/physics.md): the smallest of the CFL, force and
 // viscous limits, and which one binds.
 // Dem: the stable DEM step of a fibers-only run (run.hpp).
 enum class DtLimit { Cfl, Force, Viscous, Fixed, Dem };

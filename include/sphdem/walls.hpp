@@ -1,5 +1,5 @@
 #pragma once
-// Moving and sliding walls (DESIGN 2.1, 2.4). Wall k here is wall index k
+// Moving and sliding walls (docs/physics.md "Walls"). Wall k here is wall index k
 // of the particles (moving walls first, then sliding walls, as in the case).
 //  - A moving wall translates rigidly with a piecewise-linear velocity table.
 //    With a pressure limit it is the ram of a molding machine with V/P

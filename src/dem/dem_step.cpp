@@ -1,6 +1,6 @@
 // The DEM loops: pair search, contacts, bonds, walls, body and external
 // forces, and the velocity-Verlet sub-step. The physics of each interaction
-// is a pair kernel in terms/ (STYLE habit 7); this file owns the loops.
+// is a pair kernel in terms/; this file owns the loops.
 //
 // Gather formulation (docs/dem.md, "Pairs"): every pair with an owned
 // particle is evaluated once per rank that owns one of its two particles,

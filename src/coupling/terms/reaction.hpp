@@ -1,5 +1,5 @@
 #pragma once
-// Reaction of the drag on the resin (paper Eqs. 11-12 as DESIGN 2.3 reads
+// Reaction of the drag on the resin (paper Eqs. 11-12 as docs/physics.md "Coupling" reads
 // them): SPH neighbour r of DEM particle f receives
 //   F_r = - (V_r W_fr / S_f) F_d,f,   S_f = sum_r V_r W_fr (shepard.hpp),
 // and its acceleration is F_r / m_r (paper Eq. 5's F_ext / m_r; Eq. 13
