@@ -31,7 +31,7 @@
 #include <thread>
 #include <vector>
 
-#include "../src/parallel/decomposition.hpp"
+#include "../src/parallel/partition_graph.hpp"
 #include "mpi_test_helpers.hpp"
 #include "sphdem/agreement.hpp"
 #include "sphdem/config.hpp"

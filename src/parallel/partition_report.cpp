@@ -10,7 +10,7 @@
 #include <ostream>
 #include <utility>
 
-#include "decomposition.hpp"
+#include "partition_graph.hpp"
 #include "sphdem/comm.hpp"
 #include "sphdem/decomposition.hpp"
 #include "sphdem/geometry.hpp"
