@@ -19,18 +19,10 @@
 #include "sphdem/decomposition.hpp"
 #include "sphdem/dem_domain.hpp"
 #include "sphdem/dem_fibers.hpp"
+#include "sphdem/mold_walls.hpp"
 #include "sphdem/run.hpp"
 
 namespace sphdem {
-
-// The DEM walls of a case (src/solver/dem_walls.cpp): the parts of the
-// mold shapes' edges (2D segments) or faces (3D rectangles, a mold of
-// boxes) on the boundary of their union (fixed), then the edges or faces of
-// each moving wall's region that touch the cavity (moving). In wall_owner,
-// -1 for a fixed wall, else the moving wall's index. InputError naming
-// moving_walls[i].region when a moving wall touches no part of the mold.
-template <int D>
-std::vector<DemWall<D>> dem_walls_from_case(const Case& c, std::vector<int>& wall_owner);
 
 // The case's fibers, placed (every rank the same), with the walls and the
 // parameters of the case. InputError naming fibers.count or

@@ -1,4 +1,4 @@
-// The DEM walls of a case's mold and moving walls (fiber_module.hpp,
+// The DEM walls of a case's mold and moving walls (mold_walls.hpp,
 // docs/dem.md "Walls"): only the parts of the shapes' boundaries that bound
 // the union of the shapes (fibers pass from one shape into a touching one),
 // in 2D as segments, in 3D as rectangles.
@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "sphdem/errors.hpp"
-#include "sphdem/fiber_module.hpp"
 #include "sphdem/geometry.hpp"
+#include "sphdem/mold_walls.hpp"
 
 namespace sphdem {
 
