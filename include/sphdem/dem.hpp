@@ -3,8 +3,8 @@
 // spring-dashpot contacts with an incremental Coulomb-capped tangential
 // spring, Potyondy & Cundall (2004) parallel bonds with breakage, and a
 // velocity-Verlet step for translation and rotation. The pair kernels live
-// in src/dem/terms/, one per header; the loops are in src/dem/dem_step.cpp.
-// Nothing here knows about ranks.
+// in src/dem/terms/, one per header; the loops are in src/dem/dem_pair_list.cpp, dem_forces.cpp and
+// dem_stable_step.cpp. Nothing here knows about ranks.
 #include <cstdint>
 #include <limits>
 #include <vector>
