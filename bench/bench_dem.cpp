@@ -47,11 +47,11 @@
 #include <string>
 #include <vector>
 
-#include "dem_profile.hpp"
-#include "sphdem/comm.hpp"
-#include "sphdem/decomposition.hpp"
-#include "sphdem/dem_domain.hpp"
-#include "sphdem/dem_fibers.hpp"
+#include "sphdem/dem/dem_fibers.hpp"
+#include "sphdem/dem/dem_profile.hpp"
+#include "sphdem/parallel/comm.hpp"
+#include "sphdem/parallel/decomposition.hpp"
+#include "sphdem/solver/dem_domain.hpp"
 
 namespace {
 

@@ -18,8 +18,8 @@
 #include <cstring>
 #include <string>
 
-#include "sphdem/config.hpp"
-#include "sphdem/solver.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/solver/solver.hpp"
 
 namespace {
 

@@ -19,10 +19,10 @@
 #include <thread>
 #include <vector>
 
-#include "sphdem/comm.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/coupling.hpp"
-#include "sphdem/solver.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/coupling/coupling.hpp"
+#include "sphdem/parallel/comm.hpp"
+#include "sphdem/solver/solver.hpp"
 
 namespace sphdem {
 namespace {

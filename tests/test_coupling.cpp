@@ -1,5 +1,5 @@
 // SPH-DEM coupling against hand computations: the drag law
-// (include/sphdem/coupling.hpp), the pair kernels of src/coupling/terms/,
+// (include/sphdem/coupling/coupling.hpp), the pair kernels of src/coupling/terms/,
 // and the reference solutions the validation tests compare against
 // (docs/validation.md sections 4 and 5). docs/physics.md "Coupling" has the formulas.
 #include <gtest/gtest.h>
@@ -13,8 +13,8 @@
 #include "../src/coupling/terms/reaction.hpp"
 #include "../src/coupling/terms/shepard.hpp"
 #include "../src/coupling/terms/void_fraction.hpp"
-#include "sphdem/coupling.hpp"
-#include "sphdem/kernel.hpp"
+#include "sphdem/coupling/coupling.hpp"
+#include "sphdem/sph/kernel.hpp"
 
 namespace sphdem {
 namespace {

@@ -10,8 +10,8 @@
 #include "../src/dem/terms/contact_linear.hpp"
 #include "../src/dem/terms/parallel_bond.hpp"
 #include "../src/dem/terms/restitution_damping.hpp"
-#include "sphdem/dem.hpp"
-#include "sphdem/dem_fibers.hpp"
+#include "sphdem/dem/dem.hpp"
+#include "sphdem/dem/dem_fibers.hpp"
 
 namespace sphdem {
 namespace {

@@ -12,7 +12,7 @@
 #include <numbers>
 #include <random>
 
-#include "sphdem/dem.hpp"
+#include "sphdem/dem/dem.hpp"
 
 namespace sphdem {
 namespace {

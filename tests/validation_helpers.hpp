@@ -6,8 +6,8 @@
 #include <numbers>
 #include <string>
 
-#include "sphdem/config.hpp"
-#include "sphdem/solver.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/solver/solver.hpp"
 
 namespace sphdem::testing {
 

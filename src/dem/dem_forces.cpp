@@ -12,7 +12,7 @@
 #include <limits>
 
 #include "dem_kernels.hpp"
-#include "dem_profile.hpp"
+#include "sphdem/dem/dem_profile.hpp"
 
 namespace sphdem {
 

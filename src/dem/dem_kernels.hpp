@@ -9,8 +9,8 @@
 #include <cmath>
 #include <limits>
 
-#include "sphdem/dem.hpp"
-#include "sphdem/errors.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/dem/dem.hpp"
 #include "terms/contact_linear.hpp"
 #include "terms/parallel_bond.hpp"
 #include "terms/restitution_damping.hpp"

@@ -11,9 +11,9 @@
 #include <cmath>
 #include <limits>
 
-#include "cell_list.hpp"
 #include "dem_kernels.hpp"
-#include "dem_profile.hpp"
+#include "sphdem/dem/cell_list.hpp"
+#include "sphdem/dem/dem_profile.hpp"
 
 namespace sphdem {
 

@@ -9,9 +9,9 @@
 #include <cmath>
 #include <vector>
 
-#include "sphdem/errors.hpp"
-#include "sphdem/geometry.hpp"
-#include "sphdem/mold_walls.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/geometry/geometry.hpp"
+#include "sphdem/geometry/mold_walls.hpp"
 
 namespace sphdem {
 

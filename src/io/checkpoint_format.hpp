@@ -12,7 +12,7 @@
 #include <type_traits>
 
 #include "hdf5_helpers.hpp"
-#include "sphdem/checkpoint.hpp"
+#include "sphdem/io/checkpoint.hpp"
 
 namespace sphdem::checkpoint_io {
 

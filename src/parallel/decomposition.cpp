@@ -13,7 +13,7 @@
 #include <string>
 #include <tuple>
 
-#include "sphdem/decomposition.hpp"
+#include "sphdem/parallel/decomposition.hpp"
 
 namespace sphdem {
 

@@ -6,7 +6,7 @@
 // drops the 1/m_r). The weights of f's neighbours sum to 1, so the
 // reactions sum to -F_d,f and the total momentum is conserved to round-off.
 // Use the same S_f, neighbour set and V_r as the Shepard filter.
-#include "sphdem/particles.hpp"
+#include "sphdem/particles/particles.hpp"
 
 namespace sphdem::terms {
 

@@ -13,7 +13,7 @@
 // the exact time derivative of the kernel sum; d eps_i/dt = -d phi_i/dt.
 #include <algorithm>
 
-#include "sphdem/kernel.hpp"
+#include "sphdem/sph/kernel.hpp"
 
 namespace sphdem::terms {
 

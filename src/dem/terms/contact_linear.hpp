@@ -13,7 +13,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sphdem/dem_particles.hpp"
+#include "sphdem/particles/dem_particles.hpp"
 
 namespace sphdem::terms {
 

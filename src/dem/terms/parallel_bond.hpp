@@ -26,7 +26,7 @@
 #include <numbers>
 
 #include "contact_linear.hpp"
-#include "sphdem/dem_particles.hpp"
+#include "sphdem/particles/dem_particles.hpp"
 
 namespace sphdem::terms {
 
