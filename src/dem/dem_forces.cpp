@@ -16,8 +16,6 @@
 
 namespace sphdem {
 
-using namespace dem_detail;
-
 template <int D>
 void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
                         DemParticles<D>& ps, DemWorkspace<D>& ws) {

@@ -15,7 +15,13 @@
 #include "terms/parallel_bond.hpp"
 #include "terms/restitution_damping.hpp"
 
-namespace sphdem::dem_detail {
+namespace sphdem {
+
+// Internal linkage, as when these lived in one file with their loops: GCC
+// then inlines the single-call ones (evaluate_pair, wall_forces) into the
+// loops, which fixes where multiply-adds are fused and so keeps the results
+// bitwise what they were.
+namespace {
 
 template <int D>
 terms::LinearContact contact_law(const DemParams<D>& p, double m_eff) {
@@ -248,4 +254,6 @@ void wall_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>
   }
 }
 
-}  // namespace sphdem::dem_detail
+}  // namespace
+
+}  // namespace sphdem

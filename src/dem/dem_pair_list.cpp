@@ -17,8 +17,6 @@
 
 namespace sphdem {
 
-using namespace dem_detail;
-
 dem_detail::DemProfile& dem_detail::dem_profile() {
   static DemProfile profile;
   return profile;

@@ -8,8 +8,6 @@
 
 namespace sphdem {
 
-using namespace dem_detail;
-
 template <int D>
 double stable_dem_dt(const DemParams<D>& p, const DemParticles<D>& ps) {
   const std::size_t n = ps.size();
