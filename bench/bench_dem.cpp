@@ -8,7 +8,7 @@
 //   bench_dem --dim 2 --fibers 10000
 //   mpirun -n 2 bench_dem --dim 3 --fibers 4800
 //
-// 3D mirrors ../shared/peers/lammps/in.bpm_fibers_3d + fiber4.mol in its
+// 3D mirrors bench/peers/lammps/in.bpm_fibers_3d + fiber4.mol in its
 // (LJ) units: spheres of diameter 1 and density 1, fibers of 4 touching
 // spheres centred on a simple cubic lattice of spacing 4.25 (origin 0.5)
 // with random orientations, random velocities at temperature 0.01 (zero
@@ -47,11 +47,11 @@
 #include <string>
 #include <vector>
 
-#include "dem_profile.hpp"
-#include "sphdem/comm.hpp"
-#include "sphdem/decomposition.hpp"
-#include "sphdem/dem_domain.hpp"
-#include "sphdem/dem_fibers.hpp"
+#include "sphdem/dem/dem_fibers.hpp"
+#include "sphdem/dem/dem_profile.hpp"
+#include "sphdem/parallel/comm.hpp"
+#include "sphdem/parallel/decomposition.hpp"
+#include "sphdem/solver/dem_domain.hpp"
 
 namespace {
 

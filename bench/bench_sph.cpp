@@ -1,5 +1,5 @@
 // SPH throughput benchmark (issue 2): the peer deck's 2D periodic channel
-// (../shared/peers/lammps/in.sph_poiseuille_2d: spacing 0.3 mm, h/dp 1.2,
+// (bench/peers/lammps/in.sph_poiseuille_2d: spacing 0.3 mm, h/dp 1.2,
 // 20 neighbours, rho0 900, mu 0.1, c0 50, body force 1000 m/s^2, 3 wall
 // layers, fixed dt 1.4e-6 s) at any size, or any case file.
 //
@@ -18,8 +18,8 @@
 #include <cstring>
 #include <string>
 
-#include "sphdem/config.hpp"
-#include "sphdem/solver.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/solver/solver.hpp"
 
 namespace {
 

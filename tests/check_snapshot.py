@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Check a directory of sphdem snapshots (HDF5 + XDMF) with h5py.
 
-Verifies the layout documented in include/sphdem/io.hpp: root attributes,
+Verifies the layout documented in include/sphdem/io/io.hpp: root attributes,
 one group per particle set with a `count` attribute, every dataset's shape
 and `units`, rows ordered by a dense ascending range of global ids, z = 0 in
 2D, no leftover temporary files, and an XDMF index whose times, counts and

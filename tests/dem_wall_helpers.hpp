@@ -2,7 +2,7 @@
 // Shared by the wall tests: the wall force on one particle at rest.
 #include <vector>
 
-#include "sphdem/dem.hpp"
+#include "sphdem/dem/dem.hpp"
 
 namespace sphdem::testing {
 

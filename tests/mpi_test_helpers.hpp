@@ -12,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-#include "sphdem/comm.hpp"
+#include "sphdem/parallel/comm.hpp"
 
 namespace sphdem::testing_mpi {
 

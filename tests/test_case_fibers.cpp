@@ -6,10 +6,10 @@
 #include <string>
 #include <string_view>
 
-#include "sphdem/comm.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/dem_run.hpp"
-#include "sphdem/errors.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/parallel/comm.hpp"
+#include "sphdem/solver/dem_run.hpp"
 
 namespace sphdem {
 namespace {

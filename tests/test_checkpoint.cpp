@@ -21,9 +21,9 @@
 #include <string>
 #include <vector>
 
-#include "sphdem/checkpoint.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/solver.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/io/checkpoint.hpp"
+#include "sphdem/solver/solver.hpp"
 #include "validation_helpers.hpp"
 
 namespace sphdem {

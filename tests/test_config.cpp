@@ -10,8 +10,8 @@
 #include <string_view>
 #include <vector>
 
-#include "sphdem/config.hpp"
-#include "sphdem/errors.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/core/errors.hpp"
 
 namespace sphdem {
 namespace {

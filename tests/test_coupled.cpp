@@ -19,10 +19,10 @@
 #include <thread>
 #include <vector>
 
-#include "sphdem/comm.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/coupling.hpp"
-#include "sphdem/solver.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/coupling/coupling.hpp"
+#include "sphdem/parallel/comm.hpp"
+#include "sphdem/solver/solver.hpp"
 
 namespace sphdem {
 namespace {
@@ -64,7 +64,7 @@ CouplingParams drag_params(const Case& c) {
 
 // One particle (a one-particle fiber) released at rest under gravity in
 // still resin settles at the slip where the drag carries its weight. The
-// model has no buoyancy on fibers (DESIGN 2.3), so rho_p g = K(eps, U) U,
+// model has no buoyancy on fibers (docs/physics.md "Coupling"), so rho_p g = K(eps, U) U,
 // with eps the void fraction at the particle (its own volume smoothed by
 // the kernel). The slip is measured against the Shepard resin velocity.
 // 3 %: the slip is averaged over 2 ms of SPH pressure noise.

@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "mpi_test_helpers.hpp"
-#include "sphdem/comm.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/solver.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/parallel/comm.hpp"
+#include "sphdem/solver/solver.hpp"
 #include "validation_helpers.hpp"
 
 namespace sphdem {

@@ -1,7 +1,7 @@
-// SPH-DEM coupling against hand computations (STYLE habit 8): the drag law
-// (include/sphdem/coupling.hpp), the pair kernels of src/coupling/terms/,
+// SPH-DEM coupling against hand computations: the drag law
+// (include/sphdem/coupling/coupling.hpp), the pair kernels of src/coupling/terms/,
 // and the reference solutions the validation tests compare against
-// (ANALYTIC.md 4 and 5). docs/physics.md "Coupling" has the formulas.
+// (docs/validation.md sections 4 and 5). docs/physics.md "Coupling" has the formulas.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,15 +13,15 @@
 #include "../src/coupling/terms/reaction.hpp"
 #include "../src/coupling/terms/shepard.hpp"
 #include "../src/coupling/terms/void_fraction.hpp"
-#include "sphdem/coupling.hpp"
-#include "sphdem/kernel.hpp"
+#include "sphdem/coupling/coupling.hpp"
+#include "sphdem/sph/kernel.hpp"
 
 namespace sphdem {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// The paper's resin and fibre particle (DESIGN 4): 900 kg/m^3, 0.1 Pa s,
+// The paper's resin and fibre particle (the paper's Table 1): 900 kg/m^3, 0.1 Pa s,
 // d = 0.25 mm, h = 0.36 mm.
 CouplingParams paper_resin() {
   CouplingParams c;
@@ -97,7 +97,7 @@ TEST(CouplingDrag, BetaWenYuNewtonRegime) {
   EXPECT_NEAR(drag_beta(c, 0.9, 1e-3, 2.0) / 78531.482305, 1.0, 1e-10);
 }
 
-// ANALYTIC.md 5: OpenFOAM GidaspowErgunWenYu's K (= beta / (alpha_s alpha_f)),
+// docs/validation.md section 5: OpenFOAM GidaspowErgunWenYu's K (= beta / (alpha_s alpha_f)),
 // transcribed literally; alpha1 = solid, alpha2 = fluid. Re includes alpha2
 // (our convention, GidaspowSchillerNaumann's). pos(0) = 1 in OpenFOAM, so
 // the two codes differ only at eps = 0.8 exactly; the grid avoids it.
@@ -125,7 +125,7 @@ TEST(CouplingDrag, MatchesOpenFoamGidaspowErgunWenYu) {
 // K = (3/4) 24 mu eps^-2.65 / d^2 and V = pi d^3/6, so
 //   F_d = 3 pi mu d eps^-2.65 (u - v)      (Wen & Yu, eps > 0.8),
 // Stokes' drag at eps = 1. The exponent is -2.65, not -1.65, because our Re
-// contains eps (DESIGN 2.3): C_d |u_r| = 24 mu / (eps rho d). A code whose
+// contains eps (docs/physics.md "Coupling"): C_d |u_r| = 24 mu / (eps rho d). A code whose
 // Re omits eps (older OpenFOAM WenYu) gets eps^-1.65; both agree at eps = 1.
 TEST(CouplingDrag, StokesLimit3D) {
   const CouplingParams c = paper_resin();
@@ -370,7 +370,7 @@ TEST(CouplingReaction, DragPlusReactionsSumToZero3D) {
 
 // ---- Reference solutions for the validation tests
 
-// ANALYTIC.md 4, glass (2500) in water (1000, 1e-3 Pa s), g = 9.81, with
+// docs/validation.md section 4, glass (2500) in water (1000, 1e-3 Pa s), g = 9.81, with
 // buoyancy. At eps = 1 the Wen & Yu law is exactly Schiller-Naumann:
 // K V U = (3/4) C_d rho U^2 / d * pi d^3/6 = C_d (pi d^2/8) rho U^2.
 // Below eps = 1 the settling speed carries the hindrance factor: in the

@@ -1,4 +1,4 @@
-// DEM core against hand computations (STYLE habit 8): the pair kernels of
+// DEM core against hand computations: the pair kernels of
 // src/dem/terms/, the owner rule for pair state, conservation by the loops,
 // and the fiber generator.
 #include <gtest/gtest.h>
@@ -10,8 +10,8 @@
 #include "../src/dem/terms/contact_linear.hpp"
 #include "../src/dem/terms/parallel_bond.hpp"
 #include "../src/dem/terms/restitution_damping.hpp"
-#include "sphdem/dem.hpp"
-#include "sphdem/dem_fibers.hpp"
+#include "sphdem/dem/dem.hpp"
+#include "sphdem/dem/dem_fibers.hpp"
 
 namespace sphdem {
 namespace {
@@ -28,7 +28,7 @@ TEST(DemRotation, TwoDIsTheZComponentOfThreeD) {
   EXPECT_DOUBLE_EQ(moment<2>(Vec<2>(r[0], r[1]), Vec<2>(f[0], f[1]))[0], moment<3>(r, f)[2]);
 }
 
-// ANALYTIC.md 2 lists zeta(e): 0.5 -> 0.215454, 0.8 -> 0.070850 (6 digits).
+// docs/validation.md section 2 lists zeta(e): 0.5 -> 0.215454, 0.8 -> 0.070850 (6 digits).
 TEST(DemContact, DampingFromRestitution) {
   const double m = 2.0, k = 50.0;
   EXPECT_NEAR(terms::restitution_damping(0.5, m, k) / (2 * std::sqrt(m * k)), 0.215454, 1e-6);
@@ -88,7 +88,7 @@ terms::BondMotion<D> still_motion(const Vec<D>& n, const Vec<D>& du, const Rot<D
 }
 
 // One increment each of stretch, shear, bending and twisting against the
-// incremental law of ANALYTIC.md 6, and breakage at the strengths.
+// incremental law of docs/validation.md section 6, and breakage at the strengths.
 TEST(DemBond, IncrementsStressesAndBreakage) {
   const double rbar = 0.5, dt = 0.01;
   terms::BondLaw law{terms::bond_section<3>(rbar, 1.0), 1e3, 4e3, 1e9, 1e9};
@@ -315,7 +315,7 @@ TEST(DemStep, StableTimeStepOfALooseDisk) {
   EXPECT_DOUBLE_EQ(sys.stable_dt(), 0.2 * std::sqrt(sys.particles.mass[0] / 1e3));
 }
 
-// The paper's bath (DESIGN 2.4): 30 x 30 mm, fibers of 4 particles of
+// The paper's bath (docs/paper-comparison.md): 30 x 30 mm, fibers of 4 particles of
 // d = 0.25 mm. Checked by brute force over all pairs.
 template <int D>
 void check_placement(const DemSystem<D>& sys, const FiberSpec<D>& s, int fibers) {

@@ -18,10 +18,10 @@
 #include <vector>
 
 #include "mpi_test_helpers.hpp"
-#include "sphdem/comm.hpp"
-#include "sphdem/decomposition.hpp"
-#include "sphdem/dem_domain.hpp"
-#include "sphdem/dem_fibers.hpp"
+#include "sphdem/dem/dem_fibers.hpp"
+#include "sphdem/parallel/comm.hpp"
+#include "sphdem/parallel/decomposition.hpp"
+#include "sphdem/solver/dem_domain.hpp"
 
 namespace sphdem {
 namespace {

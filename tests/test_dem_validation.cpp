@@ -1,4 +1,4 @@
-// DEM validation against ../shared/validation/ANALYTIC.md: normal impact
+// DEM validation against docs/validation.md: normal impact
 // (section 2), Coulomb sliding, cantilever and axial stiffness of a bonded
 // chain (section 3 with the bonds of section 6), bond breakage (section 6)
 // and energy conservation. Each tolerance is justified where it is used;
@@ -12,7 +12,7 @@
 #include <numbers>
 #include <random>
 
-#include "sphdem/dem.hpp"
+#include "sphdem/dem/dem.hpp"
 
 namespace sphdem {
 namespace {
@@ -68,7 +68,8 @@ Impact impact(bool pair, double e, double& tc_exact) {
     return pair ? v[0][0] - v[1][0] : -v[0][1];
   };
   const double dt =
-      tc_exact / 400;  // ANALYTIC.md 2 asks for <= t_c/50; 400 keeps e's O(dt) error < 0.1 %
+      tc_exact /
+      400;  // docs/validation.md section 2 asks for <= t_c/50; 400 keeps e's O(dt) error < 0.1 %
   double t_start = -1, t_end = -1, prev = overlap();
   for (int s = 0; s < 100000 && t_end < 0; ++s) {
     sys.step(dt);
@@ -213,7 +214,7 @@ double bond_area(double rbar) {
 
 // Runs with global damping until the tip's speed is negligible; returns the
 // tip displacement. gamma = 2 omega_1 (critical for the first bending mode,
-// ANALYTIC.md 3: omega_1 = 1.875^2 sqrt(E I / (rho_l L^4))).
+// docs/validation.md section 3: omega_1 = 1.875^2 sqrt(E I / (rho_l L^4))).
 template <int D>
 Vec<D> settle(DemSystem<D>& sys, double omega_1) {
   sys.params.global_damping = 2 * omega_1;

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "dem_wall_helpers.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/dem.hpp"
-#include "sphdem/dem_run.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/dem/dem.hpp"
+#include "sphdem/solver/dem_run.hpp"
 
 namespace sphdem {
 namespace {

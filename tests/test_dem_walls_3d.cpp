@@ -14,11 +14,11 @@
 
 #include "../src/solver/dem_checkpoint.hpp"
 #include "dem_wall_helpers.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/dem.hpp"
-#include "sphdem/dem_run.hpp"
-#include "sphdem/errors.hpp"
-#include "sphdem/geometry.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/dem/dem.hpp"
+#include "sphdem/geometry/geometry.hpp"
+#include "sphdem/solver/dem_run.hpp"
 
 namespace sphdem {
 namespace {

@@ -1,4 +1,4 @@
-// The field registry (include/sphdem/field_registry.hpp, docs/architecture.md
+// The field registry (include/sphdem/particles/field_registry.hpp, docs/architecture.md
 // "Adding a field"): a field's one registry line decides whether it goes to
 // the ghosts at the halo build, in which per-step exchange group it is
 // refreshed (and whether it gains the periodic shift), whether it migrates,
@@ -18,9 +18,9 @@
 #include "../src/parallel/ghost_targets.hpp"
 #include "../src/parallel/migrate.hpp"
 #include "../src/solver/snapshot_fields.hpp"
-#include "sphdem/checkpoint.hpp"
-#include "sphdem/dem_particles.hpp"
-#include "sphdem/partition_report.hpp"
+#include "sphdem/io/checkpoint.hpp"
+#include "sphdem/parallel/partition_report.hpp"
+#include "sphdem/particles/dem_particles.hpp"
 
 namespace sphdem {
 namespace {

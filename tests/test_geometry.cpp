@@ -1,11 +1,11 @@
 // Shapes, particle filling, moving walls and the periodic halo.
 #include <gtest/gtest.h>
 
-#include "sphdem/config.hpp"
-#include "sphdem/decomposition.hpp"
-#include "sphdem/geometry.hpp"
-#include "sphdem/halo.hpp"
-#include "sphdem/walls.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/geometry/geometry.hpp"
+#include "sphdem/geometry/walls.hpp"
+#include "sphdem/parallel/decomposition.hpp"
+#include "sphdem/parallel/halo.hpp"
 
 namespace sphdem {
 namespace {

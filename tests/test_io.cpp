@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "sphdem/comm.hpp"
-#include "sphdem/io.hpp"
+#include "sphdem/io/io.hpp"
+#include "sphdem/parallel/comm.hpp"
 
 namespace fs = std::filesystem;
 using sphdem::Comm;

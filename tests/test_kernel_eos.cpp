@@ -4,9 +4,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "sphdem/eos.hpp"
-#include "sphdem/kernel.hpp"
-#include "sphdem/sph.hpp"
+#include "sphdem/sph/eos.hpp"
+#include "sphdem/sph/kernel.hpp"
+#include "sphdem/sph/sph.hpp"
 
 namespace sphdem {
 namespace {

@@ -31,12 +31,12 @@
 #include <thread>
 #include <vector>
 
-#include "../src/parallel/decomposition.hpp"
+#include "../src/parallel/partition_graph.hpp"
 #include "mpi_test_helpers.hpp"
-#include "sphdem/agreement.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/decomposition.hpp"
-#include "sphdem/ordered_sum.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/parallel/agreement.hpp"
+#include "sphdem/parallel/decomposition.hpp"
+#include "sphdem/parallel/ordered_sum.hpp"
 #include "validation_helpers.hpp"
 
 namespace sphdem {

@@ -8,10 +8,10 @@
 #include <string>
 
 #include "../src/app/partition_command.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/errors.hpp"
-#include "sphdem/partition_report.hpp"
-#include "sphdem/solver.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/parallel/partition_report.hpp"
+#include "sphdem/solver/solver.hpp"
 
 namespace sphdem {
 namespace {

@@ -1,4 +1,4 @@
-// The run driver (include/sphdem/run.hpp, docs/architecture.md): every case
+// The run driver (include/sphdem/solver/run.hpp, docs/architecture.md): every case
 // goes through one Run, whose modules the case decides (a fibers-only run
 // is a run without the resin); the step, the health check and the progress
 // line are the run's, whatever its modules.
@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "sphdem/comm.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/dem_run.hpp"
-#include "sphdem/errors.hpp"
-#include "sphdem/solver.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/parallel/comm.hpp"
+#include "sphdem/solver/dem_run.hpp"
+#include "sphdem/solver/solver.hpp"
 
 namespace sphdem {
 namespace {

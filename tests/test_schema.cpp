@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "sphdem/checkpoint.hpp"
-#include "sphdem/config.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/io/checkpoint.hpp"
 
 namespace sphdem {
 namespace {

@@ -13,8 +13,8 @@
 #include <cmath>
 #include <vector>
 
-#include "sphdem/neighbor.hpp"
-#include "sphdem/sph.hpp"
+#include "sphdem/neighbor/neighbor.hpp"
+#include "sphdem/sph/sph.hpp"
 
 namespace sphdem {
 namespace {

@@ -21,9 +21,9 @@
 #include "../src/sph/terms/delta_sph.hpp"
 #include "../src/sph/terms/pressure.hpp"
 #include "../src/sph/terms/viscosity_morris.hpp"
-#include "sphdem/kernel.hpp"
-#include "sphdem/neighbor.hpp"
-#include "sphdem/sph.hpp"
+#include "sphdem/neighbor/neighbor.hpp"
+#include "sphdem/sph/kernel.hpp"
+#include "sphdem/sph/sph.hpp"
 
 namespace sphdem {
 namespace {

@@ -1,13 +1,13 @@
 #pragma once
 // Shared helpers for the validation tests: load a case from inputs/, run it
 // without output to a given time, and the analytic references of
-// ../shared/validation/ANALYTIC.md.
+// docs/validation.md.
 #include <cmath>
 #include <numbers>
 #include <string>
 
-#include "sphdem/config.hpp"
-#include "sphdem/solver.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/solver/solver.hpp"
 
 namespace sphdem::testing {
 
@@ -20,7 +20,7 @@ void run_until(Simulation<D>& sim, double t) {
   while (sim.time() < t * (1 - 1e-12)) sim.advance(1);
 }
 
-// Morris et al. (1997) start-up Poiseuille flow, physical sign (ANALYTIC.md 1).
+// Morris et al. (1997) start-up Poiseuille flow, physical sign (docs/validation.md section 1).
 inline double poiseuille(double y, double t, double L, double nu, double F) {
   double u = F / (2 * nu) * y * (L - y);
   for (int n = 0; n < 400; ++n) {
@@ -32,7 +32,7 @@ inline double poiseuille(double y, double t, double L, double nu, double F) {
   return u;
 }
 
-// Start-up Couette flow, plate at y = L moving at v0 (ANALYTIC.md 1).
+// Start-up Couette flow, plate at y = L moving at v0 (docs/validation.md section 1).
 inline double couette(double y, double t, double L, double nu, double v0) {
   double u = v0 * y / L;
   for (int n = 1; n < 4000; ++n) {

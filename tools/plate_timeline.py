@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Filling timeline of the plate mold (inputs/plate.yaml, DESIGN 2.4) from a
+"""Filling timeline of the plate mold (inputs/plate.yaml, docs/paper-comparison.md) from a
 directory of sphdem snapshots: when the resin reaches the gate, when it
 splits into the two plate arms, and how full the cavity is over time,
 beside the paper's 0.02 s, 0.02-0.025 s and 0.12 s.

@@ -10,14 +10,14 @@
 #include "output_dir.hpp"
 #include "partition_command.hpp"
 #include "signals.hpp"
-#include "sphdem/agreement.hpp"
-#include "sphdem/comm.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/dem_run.hpp"
-#include "sphdem/errors.hpp"
-#include "sphdem/fault.hpp"
-#include "sphdem/run.hpp"
-#include "sphdem/solver.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/core/fault.hpp"
+#include "sphdem/parallel/agreement.hpp"
+#include "sphdem/parallel/comm.hpp"
+#include "sphdem/solver/dem_run.hpp"
+#include "sphdem/solver/run.hpp"
+#include "sphdem/solver/solver.hpp"
 
 namespace sphdem::app {
 

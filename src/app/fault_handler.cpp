@@ -8,8 +8,8 @@
 #include <exception>
 #include <string>
 
-#include "sphdem/errors.hpp"
-#include "sphdem/fault.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/core/fault.hpp"
 
 namespace sphdem::app {
 

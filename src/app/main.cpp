@@ -1,6 +1,6 @@
 // The sphdem command line: `sphdem run case.yaml`, `sphdem check case.yaml`,
 // `sphdem partition case.yaml --ranks 64,256`, `sphdem keys [--markdown]`.
-// Exit status (include/sphdem/errors.hpp, docs/architecture.md "Errors"):
+// Exit status (include/sphdem/core/errors.hpp, docs/architecture.md "Errors"):
 // 0 success, 2 bad input (nothing written), 3 the simulation failed (last
 // state written when every rank saw the failure), 1 anything else.
 #include <mpi.h>
@@ -11,7 +11,7 @@
 
 #include "commands.hpp"
 #include "fault_handler.hpp"
-#include "sphdem/errors.hpp"
+#include "sphdem/core/errors.hpp"
 
 int main(int argc, char** argv) {
   MPI_Init(&argc, &argv);

@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "sphdem/errors.hpp"
+#include "sphdem/core/errors.hpp"
 
 namespace sphdem::app {
 

@@ -4,7 +4,7 @@
 // --restart to continue that run or --overwrite to replace it.
 #include <string>
 
-#include "sphdem/comm.hpp"
+#include "sphdem/parallel/comm.hpp"
 
 namespace sphdem::app {
 

@@ -6,9 +6,9 @@
 #include <fstream>
 #include <iostream>
 
-#include "sphdem/config.hpp"
-#include "sphdem/errors.hpp"
-#include "sphdem/partition_report.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/parallel/partition_report.hpp"
 
 namespace sphdem::app {
 

@@ -6,7 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "sphdem/comm.hpp"
+#include "sphdem/parallel/comm.hpp"
 
 namespace sphdem::app {
 

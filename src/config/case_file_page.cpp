@@ -17,8 +17,8 @@ not this page. The test case_file_doc_current fails when it is stale. -->
 A case is one YAML file. `sphdem run case.yaml` runs it, `sphdem check
 case.yaml` validates it without running, `sphdem keys` lists every key.
 Units are SI everywhere (m, s, kg, Pa). The loader (`src/config/`,
-`load_case` in `include/sphdem/config.hpp`) turns the file into a validated
-`sphdem::Case` (`include/sphdem/case.hpp`).
+`load_case` in `include/sphdem/config/config.hpp`) turns the file into a validated
+`sphdem::Case` (`include/sphdem/config/case.hpp`).
 
 Every key is declared once, in the key schema (`src/config/schema.hpp`, one
 `src/config/keys_*.cpp` per section): its type, unit, default, validator,

@@ -7,8 +7,8 @@
 
 #include "overrides.hpp"
 #include "schema.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/errors.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/core/errors.hpp"
 
 namespace sphdem {
 

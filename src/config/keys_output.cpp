@@ -4,7 +4,7 @@
 #include <algorithm>
 
 #include "schema.hpp"
-#include "sphdem/particles.hpp"
+#include "sphdem/particles/particles.hpp"
 
 namespace sphdem::config {
 

@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <string_view>
 
-#include "sphdem/errors.hpp"
+#include "sphdem/core/errors.hpp"
 #include "yaml_reader.hpp"
 
 namespace sphdem::config {

@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "shapes.hpp"
-#include "sphdem/case.hpp"
-#include "sphdem/config.hpp"
+#include "sphdem/config/case.hpp"
+#include "sphdem/config/config.hpp"
 #include "yaml_reader.hpp"
 
 namespace sphdem::config {

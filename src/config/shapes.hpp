@@ -4,8 +4,8 @@
 #include <optional>
 #include <vector>
 
-#include "sphdem/case.hpp"
-#include "sphdem/config.hpp"
+#include "sphdem/config/case.hpp"
+#include "sphdem/config/config.hpp"
 #include "yaml_reader.hpp"
 
 namespace sphdem::config {

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <system_error>
 
-#include "sphdem/errors.hpp"
+#include "sphdem/core/errors.hpp"
 
 namespace sphdem::config {
 

@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "sphdem/case.hpp"
+#include "sphdem/config/case.hpp"
 
 namespace sphdem::config {
 

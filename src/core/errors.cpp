@@ -1,4 +1,4 @@
-#include "sphdem/errors.hpp"
+#include "sphdem/core/errors.hpp"
 
 #include <utility>
 

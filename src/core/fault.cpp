@@ -1,4 +1,4 @@
-#include "sphdem/fault.hpp"
+#include "sphdem/core/fault.hpp"
 
 #include <fmt/format.h>
 
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sphdem/errors.hpp"
+#include "sphdem/core/errors.hpp"
 
 namespace sphdem {
 

@@ -1,13 +1,13 @@
 // The coupling passes (coupling_loops.hpp). Neighbour searches use a cell
 // list over the few particles concerned (the resin, or the DEM particles),
 // rebuilt per call; candidates are sorted by global id before summing.
-#include "sphdem/coupling_loops.hpp"
+#include "sphdem/coupling/coupling_loops.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "../dem/cell_list.hpp"
+#include "sphdem/dem/cell_list.hpp"
 #include "terms/continuity_void.hpp"
 #include "terms/reaction.hpp"
 #include "terms/shepard.hpp"

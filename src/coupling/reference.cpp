@@ -1,9 +1,9 @@
 // Reference solutions of the coupling's drag law, for the validation tests
-// (include/sphdem/coupling.hpp): terminal settling velocity and the Stokes
+// (include/sphdem/coupling/coupling.hpp): terminal settling velocity and the Stokes
 // relaxation time.
 #include <cmath>
 
-#include "sphdem/coupling.hpp"
+#include "sphdem/coupling/coupling.hpp"
 
 namespace sphdem {
 

@@ -5,7 +5,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "sphdem/dem.hpp"
+#include "sphdem/dem/dem.hpp"
 #include "terms/parallel_bond.hpp"
 
 namespace sphdem {

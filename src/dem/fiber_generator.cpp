@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "sphdem/dem_fibers.hpp"
+#include "sphdem/dem/dem_fibers.hpp"
 
 namespace sphdem {
 

@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sphdem/eos.hpp"
-#include "sphdem/errors.hpp"
-#include "sphdem/geometry.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/geometry/geometry.hpp"
+#include "sphdem/sph/eos.hpp"
 
 namespace sphdem {
 

@@ -1,7 +1,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sphdem/walls.hpp"
+#include "sphdem/geometry/walls.hpp"
 
 namespace sphdem {
 

@@ -2,7 +2,7 @@
 #include <cmath>
 #include <limits>
 
-#include "sphdem/geometry.hpp"
+#include "sphdem/geometry/geometry.hpp"
 
 namespace sphdem {
 

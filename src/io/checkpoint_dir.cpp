@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <ostream>
 
-#include "sphdem/checkpoint.hpp"
+#include "sphdem/io/checkpoint.hpp"
 
 namespace sphdem {
 

@@ -10,7 +10,7 @@
 #include <filesystem>
 
 #include "hdf5_helpers.hpp"
-#include "sphdem/io.hpp"
+#include "sphdem/io/io.hpp"
 
 namespace sphdem {
 

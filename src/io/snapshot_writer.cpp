@@ -11,8 +11,8 @@
 #include <stdexcept>
 
 #include "hdf5_helpers.hpp"
-#include "sphdem/fault.hpp"
-#include "sphdem/io.hpp"
+#include "sphdem/core/fault.hpp"
+#include "sphdem/io/io.hpp"
 
 namespace sphdem {
 

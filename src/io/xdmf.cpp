@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "sphdem/io.hpp"
+#include "sphdem/io/io.hpp"
 
 namespace sphdem {
 

@@ -3,7 +3,7 @@
 #include <limits>
 #include <numeric>
 
-#include "sphdem/neighbor.hpp"
+#include "sphdem/neighbor/neighbor.hpp"
 
 namespace sphdem {
 

@@ -1,4 +1,4 @@
-#include "sphdem/agreement.hpp"
+#include "sphdem/parallel/agreement.hpp"
 
 #include <cstdint>
 

@@ -1,4 +1,4 @@
-#include "sphdem/comm.hpp"
+#include "sphdem/parallel/comm.hpp"
 
 namespace sphdem {
 

@@ -1,6 +1,6 @@
 // Cell grid, METIS partition of the cell graph, relabelling, and the
 // broadcast of the cell -> rank map.
-#include "decomposition.hpp"
+#include "partition_graph.hpp"
 
 #include <metis.h>
 
@@ -13,7 +13,7 @@
 #include <string>
 #include <tuple>
 
-#include "sphdem/decomposition.hpp"
+#include "sphdem/parallel/decomposition.hpp"
 
 namespace sphdem {
 

@@ -1,5 +1,5 @@
 // DEM ghost plan and the per-step forward exchanges (docs/parallel.md).
-#include "sphdem/dem_halo.hpp"
+#include "sphdem/parallel/dem_halo.hpp"
 
 #include "exchange.hpp"
 #include "ghost_fields.hpp"

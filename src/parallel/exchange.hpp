@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sphdem/decomposition.hpp"
+#include "sphdem/parallel/decomposition.hpp"
 
 namespace sphdem::detail {
 

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "exchange.hpp"
-#include "sphdem/halo.hpp"
+#include "sphdem/parallel/halo.hpp"
 
 namespace sphdem::detail {
 

@@ -7,7 +7,7 @@
 
 #include "exchange.hpp"
 #include "ghost_fields.hpp"
-#include "sphdem/decomposition.hpp"
+#include "sphdem/parallel/decomposition.hpp"
 
 namespace sphdem::detail {
 

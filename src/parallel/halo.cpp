@@ -1,5 +1,5 @@
 // Ghost plan and forward exchanges (docs/parallel.md, "Halo").
-#include "sphdem/halo.hpp"
+#include "sphdem/parallel/halo.hpp"
 
 #include "exchange.hpp"
 #include "ghost_fields.hpp"

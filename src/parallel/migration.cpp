@@ -2,8 +2,8 @@
 #include <cmath>
 
 #include "migrate.hpp"
-#include "sphdem/decomposition.hpp"
-#include "sphdem/dem_particles.hpp"
+#include "sphdem/parallel/decomposition.hpp"
+#include "sphdem/particles/dem_particles.hpp"
 
 namespace sphdem {
 

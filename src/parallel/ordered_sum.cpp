@@ -1,4 +1,4 @@
-#include "sphdem/ordered_sum.hpp"
+#include "sphdem/parallel/ordered_sum.hpp"
 
 #include <algorithm>
 #include <numeric>

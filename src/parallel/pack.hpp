@@ -7,7 +7,7 @@
 #include <cstring>
 #include <vector>
 
-#include "sphdem/particles.hpp"
+#include "sphdem/particles/particles.hpp"
 
 namespace sphdem::detail {
 

@@ -1,6 +1,6 @@
 // `sphdem partition`: the decomposition a run would start from, at rank
 // counts this machine cannot run (docs/scaling.md).
-#include "sphdem/partition_report.hpp"
+#include "sphdem/parallel/partition_report.hpp"
 
 #include <fmt/format.h>
 
@@ -10,12 +10,12 @@
 #include <ostream>
 #include <utility>
 
-#include "decomposition.hpp"
-#include "sphdem/comm.hpp"
-#include "sphdem/decomposition.hpp"
-#include "sphdem/geometry.hpp"
-#include "sphdem/neighbor.hpp"
-#include "sphdem/timers.hpp"
+#include "partition_graph.hpp"
+#include "sphdem/geometry/geometry.hpp"
+#include "sphdem/neighbor/neighbor.hpp"
+#include "sphdem/parallel/comm.hpp"
+#include "sphdem/parallel/decomposition.hpp"
+#include "sphdem/parallel/timers.hpp"
 
 namespace sphdem {
 

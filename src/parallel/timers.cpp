@@ -1,4 +1,4 @@
-#include "sphdem/timers.hpp"
+#include "sphdem/parallel/timers.hpp"
 
 #include <fmt/format.h>
 

@@ -5,8 +5,8 @@
 #include <chrono>
 #include <sstream>
 
-#include "sphdem/checkpoint.hpp"
-#include "sphdem/config.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/io/checkpoint.hpp"
 
 namespace sphdem {
 

@@ -1,5 +1,5 @@
 // The coupling module (coupling_module.hpp).
-#include "sphdem/coupling_module.hpp"
+#include "sphdem/solver/coupling_module.hpp"
 
 #include <cmath>
 

@@ -12,10 +12,10 @@
 #include <utility>
 #include <vector>
 
-#include "sphdem/checkpoint.hpp"
-#include "sphdem/dem.hpp"
-#include "sphdem/dem_domain.hpp"
-#include "sphdem/errors.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/dem/dem.hpp"
+#include "sphdem/io/checkpoint.hpp"
+#include "sphdem/solver/dem_domain.hpp"
 
 namespace sphdem {
 

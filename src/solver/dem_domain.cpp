@@ -1,10 +1,10 @@
 // Decomposed DEM sub-stepping (dem_domain.hpp).
-#include "sphdem/dem_domain.hpp"
+#include "sphdem/solver/dem_domain.hpp"
 
 #include <algorithm>
 #include <limits>
 
-#include "../dem/dem_profile.hpp"
+#include "sphdem/dem/dem_profile.hpp"
 
 namespace sphdem {
 

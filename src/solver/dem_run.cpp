@@ -1,7 +1,7 @@
 // The fiber module (fiber_module.hpp): the case's fibers placed in the
 // mold, alone (pushed by the piston) or coupled to the resin; and DemRun,
 // a run of fibers alone.
-#include "sphdem/dem_run.hpp"
+#include "sphdem/solver/dem_run.hpp"
 
 #include <fmt/format.h>
 
@@ -12,9 +12,9 @@
 #include <stdexcept>
 
 #include "dem_snapshot.hpp"
-#include "sphdem/errors.hpp"
-#include "sphdem/geometry.hpp"
-#include "sphdem/timers.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/geometry/geometry.hpp"
+#include "sphdem/parallel/timers.hpp"
 
 namespace sphdem {
 

@@ -5,8 +5,8 @@
 #include <memory>
 
 #include "dem_checkpoint.hpp"
-#include "sphdem/checkpoint.hpp"
-#include "sphdem/fiber_module.hpp"
+#include "sphdem/io/checkpoint.hpp"
+#include "sphdem/solver/fiber_module.hpp"
 
 namespace sphdem {
 

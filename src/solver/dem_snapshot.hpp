@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "snapshot_fields.hpp"
-#include "sphdem/comm.hpp"
-#include "sphdem/dem_particles.hpp"
-#include "sphdem/io.hpp"
-#include "sphdem/ordered_sum.hpp"
+#include "sphdem/io/io.hpp"
+#include "sphdem/parallel/comm.hpp"
+#include "sphdem/parallel/ordered_sum.hpp"
+#include "sphdem/particles/dem_particles.hpp"
 
 namespace sphdem {
 

@@ -1,7 +1,7 @@
 // The run driver (run.hpp): the step over the modules, the run loop with
 // its output cadence, checkpoints, stop requests and progress, the health
 // check, snapshots, and checkpoint write and restart.
-#include "sphdem/run.hpp"
+#include "sphdem/solver/run.hpp"
 
 #include <fmt/format.h>
 
@@ -13,15 +13,15 @@
 #include <ostream>
 #include <stdexcept>
 
-#include "sphdem/checkpoint.hpp"
-#include "sphdem/config.hpp"
-#include "sphdem/coupling_module.hpp"
-#include "sphdem/errors.hpp"
-#include "sphdem/fault.hpp"
-#include "sphdem/fiber_module.hpp"
-#include "sphdem/io.hpp"
-#include "sphdem/output_cadence.hpp"
-#include "sphdem/resin_module.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/core/fault.hpp"
+#include "sphdem/io/checkpoint.hpp"
+#include "sphdem/io/io.hpp"
+#include "sphdem/solver/coupling_module.hpp"
+#include "sphdem/solver/fiber_module.hpp"
+#include "sphdem/solver/output_cadence.hpp"
+#include "sphdem/solver/resin_module.hpp"
 
 namespace sphdem {
 

@@ -7,11 +7,11 @@
 #include <stdexcept>
 
 #include "snapshot_fields.hpp"
-#include "sphdem/errors.hpp"
-#include "sphdem/geometry.hpp"
-#include "sphdem/ordered_sum.hpp"
-#include "sphdem/resin_module.hpp"
-#include "sphdem/solver.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/geometry/geometry.hpp"
+#include "sphdem/parallel/ordered_sum.hpp"
+#include "sphdem/solver/resin_module.hpp"
+#include "sphdem/solver/solver.hpp"
 
 namespace sphdem {
 

@@ -15,9 +15,9 @@
 #include <memory>
 #include <stdexcept>
 
-#include "sphdem/checkpoint.hpp"
-#include "sphdem/errors.hpp"
-#include "sphdem/resin_module.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/io/checkpoint.hpp"
+#include "sphdem/solver/resin_module.hpp"
 
 namespace sphdem {
 

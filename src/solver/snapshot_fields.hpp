@@ -10,8 +10,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "sphdem/io.hpp"
-#include "sphdem/particles.hpp"
+#include "sphdem/io/io.hpp"
+#include "sphdem/particles/particles.hpp"
 
 namespace sphdem {
 

@@ -31,7 +31,7 @@
 #include <vector>
 
 #include "record_fields.hpp"
-#include "sphdem/neighbor.hpp"
+#include "sphdem/neighbor/neighbor.hpp"
 
 namespace sphdem::terms {
 

@@ -22,9 +22,9 @@
 #include <cstddef>
 #include <type_traits>
 
-#include "sphdem/kernel.hpp"
-#include "sphdem/particles.hpp"
-#include "sphdem/sph.hpp"
+#include "sphdem/particles/particles.hpp"
+#include "sphdem/sph/kernel.hpp"
+#include "sphdem/sph/sph.hpp"
 
 namespace sphdem::terms {
 

@@ -2,7 +2,7 @@
 #include <cmath>
 #include <limits>
 
-#include "sphdem/sph.hpp"
+#include "sphdem/sph/sph.hpp"
 
 namespace sphdem {
 

@@ -9,7 +9,7 @@
 // The resin sees the wall through these values in the rate loop.
 #include <algorithm>
 
-#include "sphdem/sph.hpp"
+#include "sphdem/sph/sph.hpp"
 
 namespace sphdem {
 

@@ -1,12 +1,12 @@
 #pragma once
-// Reaction of the drag on the resin (paper Eqs. 11-12 as DESIGN 2.3 reads
+// Reaction of the drag on the resin (paper Eqs. 11-12 as docs/physics.md "Coupling" reads
 // them): SPH neighbour r of DEM particle f receives
 //   F_r = - (V_r W_fr / S_f) F_d,f,   S_f = sum_r V_r W_fr (shepard.hpp),
 // and its acceleration is F_r / m_r (paper Eq. 5's F_ext / m_r; Eq. 13
 // drops the 1/m_r). The weights of f's neighbours sum to 1, so the
 // reactions sum to -F_d,f and the total momentum is conserved to round-off.
 // Use the same S_f, neighbour set and V_r as the Shepard filter.
-#include "sphdem/particles.hpp"
+#include "sphdem/particles/particles.hpp"
 
 namespace sphdem::terms {
 

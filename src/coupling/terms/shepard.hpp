@@ -6,7 +6,7 @@
 // No resin within the support (S_f = 0): no resin velocity, and the caller
 // applies no drag (a fibre in air or in a void is not dragged).
 // Only resin particles count, not wall particles.
-#include "sphdem/particles.hpp"
+#include "sphdem/particles/particles.hpp"
 
 namespace sphdem::terms {
 

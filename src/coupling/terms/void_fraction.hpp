@@ -1,6 +1,6 @@
 #pragma once
 // Local void fraction by kernel averaging of the DEM particle volumes
-// (DESIGN 2.3, the paper's "local mean voidage"):
+// (docs/physics.md "Coupling", the paper's "local mean voidage"):
 //   eps(x) = 1 - phi(x),   phi(x) = sum_f V_f W(x - x_f),   eps clipped to [eps_min, 1].
 // phi is the solid fraction; V_f = particle_volume<D>(d_f) (in 2D the disk
 // area, per unit depth). At a DEM particle the sum includes the particle
@@ -13,7 +13,7 @@
 // the exact time derivative of the kernel sum; d eps_i/dt = -d phi_i/dt.
 #include <algorithm>
 
-#include "sphdem/kernel.hpp"
+#include "sphdem/sph/kernel.hpp"
 
 namespace sphdem::terms {
 

@@ -1,11 +1,11 @@
 #pragma once
-// Linear spring-dashpot contact (Cundall & Strack 1979; DESIGN 2.2):
+// Linear spring-dashpot contact (Cundall & Strack 1979; docs/dem.md):
 //   normal      F_n = k_n delta - c_n v_n            (along n, on the partner)
 //   tangential  xi += v_t dt,  F_t = -k_t xi - c_t v_t,  |F_t| <= mu max(F_n, 0)
 // n is the unit vector from the owner to the partner (or the wall), delta
 // the overlap, v = v_partner - v_owner at the contact point, v_n = v . n
 // (> 0 separating). The normal force is not clipped at zero, so restitution
-// and contact time follow ANALYTIC.md 2 exactly (a slight pull at the end of
+// and contact time follow docs/validation.md section 2 exactly (a slight pull at the end of
 // an impact). The spring xi is the pair's history: it is turned into the
 // current tangent plane keeping its length (the contact plane rotates), and
 // when the Coulomb cap binds it is reset to the length that gives the capped
@@ -13,7 +13,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sphdem/dem_particles.hpp"
+#include "sphdem/particles/dem_particles.hpp"
 
 namespace sphdem::terms {
 

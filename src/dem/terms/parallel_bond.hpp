@@ -1,5 +1,5 @@
 #pragma once
-// Linear parallel bond of Potyondy & Cundall (2004), ANALYTIC.md 6.
+// Linear parallel bond of Potyondy & Cundall (2004), docs/validation.md section 6.
 // Section of a bond of radius Rbar (eq. 12, 15):
 //   2D (thickness t): A = 2 Rbar t, I = (2/3) Rbar^3 t   (no twisting)
 //   3D:               A = pi Rbar^2, I = pi Rbar^4 / 4, J = pi Rbar^4 / 2
@@ -26,7 +26,7 @@
 #include <numbers>
 
 #include "contact_linear.hpp"
-#include "sphdem/dem_particles.hpp"
+#include "sphdem/particles/dem_particles.hpp"
 
 namespace sphdem::terms {
 

@@ -1,6 +1,6 @@
 #pragma once
 // Dashpot coefficient of a linear spring-dashpot for a restitution
-// coefficient e (ANALYTIC.md 2; Cundall & Strack 1979):
+// coefficient e (docs/validation.md section 2; Cundall & Strack 1979):
 //   c = -2 ln e sqrt(m_eff k) / sqrt(pi^2 + ln^2 e),
 // i.e. the damping ratio zeta = -ln e / sqrt(pi^2 + ln^2 e). With the
 // normal force left unclipped (contact_linear.hpp) a head-on impact then

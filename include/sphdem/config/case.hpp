@@ -1,0 +1,160 @@
+#pragma once
+// The validated contents of a case file (docs/case-file.md), SI units.
+// Produced by config/ (load_case), consumed by geometry/ and solver/.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sphdem {
+
+using Vec3a = std::array<double, 3>;  // D components used, the rest are 0
+
+// A 2D polygon or a box (2D or 3D). `key` and `line` say where it was
+// defined so that later checks (e.g. "fill region outside the mold") can
+// still point at the case file.
+struct Shape {
+  enum class Type { Polygon, Box };
+  Type type = Type::Box;
+  std::vector<std::array<double, 2>> vertices;  // Polygon, counter- or clockwise
+  Vec3a lo{}, hi{};                             // Box
+  std::string key;
+  int line = 0;
+};
+
+struct Resin {
+  double density = 0;      // rho0 [kg/m^3]
+  double viscosity = 0;    // mu [Pa s]
+  double sound_speed = 0;  // c0 [m/s], given or from mach * reference_velocity
+  double gamma = 7.0;      // Tait exponent
+};
+
+enum class ViscosityModel { Morris, None };
+
+struct Numerics {
+  double spacing = 0;  // dp [m]
+  double h_over_spacing = 1.2;
+  double cfl = 0.25;              // dt <= cfl h / (c0 + |v|max)
+  double force_factor = 0.25;     // dt <= force_factor sqrt(h/|a|max)
+  double viscous_factor = 0.125;  // dt <= viscous_factor h^2 rho0/mu
+  std::optional<double> fixed_dt;
+  double end_time = 0;
+  ViscosityModel viscosity_model = ViscosityModel::Morris;
+  // Scale the kernel gradient and the viscous Laplacian so they are exact on
+  // the lattice the resin starts on (see gradient_lattice_correction, sph.hpp).
+  bool lattice_correction = true;
+  double artificial_viscosity = 0.0;  // Monaghan alpha
+  double delta_sph = 0.0;             // Molteni-Colagrossi delta, 0 = off
+  bool anti_clump = true;             // Monaghan (2000) tensile-instability term
+  double anti_clump_epsilon = 0.2;
+  int anti_clump_exponent = 4;
+  double neighbor_skin = 0.1;  // Verlet skin as a fraction of the support 2h
+};
+
+struct Mold {
+  std::vector<Shape> shapes;  // the cavity is their union
+  int wall_layers = 3;
+};
+
+// Piecewise-linear velocity table; constant before the first and after the
+// last row.
+struct VelocityTable {
+  std::vector<double> time;
+  std::vector<Vec3a> velocity;
+};
+
+struct MovingWall {
+  std::string name;
+  Shape region;  // wall particles inside it belong to this wall
+  VelocityTable velocity;
+  std::optional<double> pressure_limit;  // [Pa], V/P switchover
+  double pressure_relax_time = 1e-3;     // [s], how fast the controller reacts
+  double adhesion_pressure = 0;          // [Pa] tension the resin takes before leaving the wall
+  int line = 0;
+};
+
+struct SlidingWall {
+  std::string name;
+  Shape region;
+  Vec3a velocity{};  // tangential surface velocity [m/s]; the particles stay put
+  int line = 0;
+};
+
+struct Output {
+  std::string directory;             // default: out/<name>
+  std::optional<double> every_time;  // [s] of simulated time
+  std::optional<int> every_steps;
+  std::vector<std::string> fields{"velocity", "density", "pressure"};
+  int progress_every = 100;
+};
+
+// Dynamic load balancing (docs/parallel.md).
+struct ParallelSettings {
+  int balance_every = 100;            // steps between imbalance checks, 0: never re-partition
+  double imbalance_threshold = 0.10;  // re-partition past max/mean - 1 of the per-rank work
+};
+
+// Checkpoints for restart (docs/checkpoint.md). Off unless a cadence is
+// given (here, or `--checkpoint-every` on the command line).
+struct CheckpointSettings {
+  std::optional<int> every_steps;       // steps between checkpoints
+  std::optional<double> every_minutes;  // wall-clock minutes between checkpoints
+  int keep = 2;                         // newest checkpoints kept, older ones deleted
+};
+
+// Fibers as chains of bonded DEM particles (docs/dem.md),
+// placed at random in a box at the start. Lines are kept so that a
+// placement that fails later can still point at the case file.
+struct FiberSettings {
+  int count = 0;             // fibers; 0 when area_fraction is given
+  double area_fraction = 0;  // target area (2D) / volume (3D) fraction of the region
+  int particles_per_fiber = 4;
+  double diameter = 0;                       // particle diameter [m]
+  double density = 0;                        // [kg/m^3]
+  double youngs_modulus = 0;                 // E [Pa]
+  std::optional<double> tensile_strength;    // sigma_c [Pa], none: never breaks in tension
+  std::optional<double> shear_strength;      // tau_c [Pa], none: never breaks in shear
+  double stiffness_ratio = 0.25;             // kbar* = kbar_n / kbar_s
+  double contact_stiffness_fraction = 0.01;  // k_n = fraction * kbar_n * A
+  double restitution = 0.9;
+  double friction = 0.3;
+  Shape region;                 // a box: particles lie fully inside
+  std::optional<double> angle;  // orientation [rad] from +x; none: random
+  std::uint64_t seed = 1;
+  double dt_safety = 0.2;
+  // Coupling with the resin (docs/physics.md "Coupling").
+  double void_fraction_min = 0.4;           // clip of the local void fraction
+  bool void_fraction_in_continuity = true;  // the "local averaging" continuity form
+  int line = 0;                             // of the `fibers:` mapping
+  int amount_line = 0;                      // of `count` or `area_fraction`
+};
+
+struct Case {
+  std::string name;
+  std::string source_file;
+  std::string source_text;             // the case file as read
+  std::vector<std::string> overrides;  // the `--set` key=value strings applied to it
+  int dimension = 2;
+  Resin resin;
+  Numerics numerics;
+  Mold mold;
+  std::vector<Shape> fill;              // empty: no resin (a DEM-only case)
+  std::optional<FiberSettings> fibers;  // none: resin only
+  std::vector<MovingWall> moving_walls;
+  std::vector<SlidingWall> sliding_walls;
+  Vec3a body_force{};        // [m/s^2]
+  Vec3a initial_velocity{};  // [m/s] of the resin at t = 0
+  std::array<bool, 3> periodic{false, false, false};
+  std::optional<Vec3a> domain_lo, domain_hi;  // default: mold bbox + wall layers
+  Output output;
+  ParallelSettings parallel;
+  CheckpointSettings checkpoint;
+  // Remarks that do not stop a run (e.g. a Mach number above 0.1), for
+  // `sphdem check` and the run log.
+  std::vector<std::string> warnings;
+
+  double h() const { return numerics.h_over_spacing * numerics.spacing; }
+};
+
+}  // namespace sphdem

@@ -1,0 +1,57 @@
+#pragma once
+// The two coupling passes (docs/physics.md "Coupling"),
+// over the particles present on a rank (owned and ghosts). No MPI: between
+// the passes the solver sends each DEM ghost its owner's drag and Shepard
+// sum (DemHalo::forward(DemGroup::Coupling)).
+//   1. drag_on_fibers: for every owned DEM particle f, the mean drag of the
+//      step that just ended (its impulse over the sub-steps / dt: the
+//      momentum the resin must get back), then the void fraction at x_f,
+//      the Shepard resin velocity vbar and the normaliser S_f, and the new
+//      drag law F = K V_f (vbar - v_f) held over the next sub-steps
+//      (drag_coeff = K V_f with K at the current slip, drag_velocity = vbar).
+//   2. reaction_on_resin: for every owned resin particle r, the reaction
+//      -(V_r W_fr / S_f) F_mean,f of every DEM neighbour f (into a; returns
+//      the sum of these forces over the rank's resin), and with
+//      void_fraction_in_continuity the continuity rate with the void
+//      fraction (into drho).
+// Every sum runs over neighbours in increasing global id, so results are
+// bitwise the same on any number of ranks; the reactions of one DEM
+// particle sum to -F_d exactly up to round-off.
+#include <cstdint>
+#include <vector>
+
+#include "sphdem/coupling/coupling.hpp"
+#include "sphdem/particles/dem_particles.hpp"
+#include "sphdem/particles/particles.hpp"
+#include "sphdem/sph/kernel.hpp"
+
+namespace sphdem {
+
+struct CouplingSettings {
+  CouplingParams drag;                      // resin rho, mu, eps_min, eps_switch
+  double h = 0;                             // smoothing length of the averaging kernel [m]
+  double thickness = 1.0;                   // 2D depth of the DEM particles [m]
+  bool void_fraction_in_continuity = true;  // the "local averaging" continuity form
+};
+
+// Scratch of drag_on_fibers, kept between passes to spare allocations. The
+// pass's results per DEM particle are fields of DemParticles
+// (dem_particles.hpp): shepard_sum, mean_drag, void_fraction,
+// resin_velocity.
+template <int D>
+struct CouplingState {
+  std::vector<std::int32_t> cell_start, cell_items, resin_index;
+  std::vector<Vec<D>> resin_x;
+};
+
+// dt: the SPH step that just ended (0 at the start: no impulse yet).
+template <int D>
+void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemParticles<D>& dem,
+                    CouplingState<D>& st, double dt);
+
+// Reads the DEM particles' mean_drag and shepard_sum, ghosts' included.
+template <int D>
+Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
+                         SphParticles<D>& sph, std::vector<double>& resin_void_fraction);
+
+}  // namespace sphdem

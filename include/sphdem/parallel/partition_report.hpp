@@ -1,0 +1,62 @@
+#pragma once
+// What a run at many ranks would see, without running it (`sphdem
+// partition`, docs/scaling.md): the case's initial particles, the cell grid
+// and weights of the decomposition, and for each rank count the METIS
+// partition a run would start from (the same code path,
+// detail::compute_owners), measured for load imbalance, ghosts, halo
+// volume and neighbor ranks. Serial; needs no more than one MPI rank.
+#include <array>
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "sphdem/config/case.hpp"
+#include "sphdem/particles/particles.hpp"
+
+namespace sphdem {
+
+// Bytes per ghost of one Halo::forward(group) (docs/parallel.md, "The
+// step"): the sizes of the group's fields in the registry (particles.hpp).
+// State goes to every ghost, WallState to the wall ghosts.
+std::size_t forward_bytes(int dim, SphGroup group);
+
+struct PartitionStats {
+  int ranks = 0;
+  // False when there are more ranks than non-empty cells: a run would give
+  // ranks single empty cells (nothing below is measured then).
+  bool feasible = true;
+  int empty_ranks = 0;            // ranks METIS left without particles
+  double imbalance = 0;           // max / mean - 1 of the weighted work
+  double ghost_fraction = 0;      // all ghosts / all owned particles
+  double ghost_fraction_max = 0;  // max over ranks of ghosts / owned
+  double halo_bytes_max = 0;      // received per step by one rank
+  double halo_bytes_mean = 0;     // mean over ranks
+  int neighbors_max = 0;          // ranks exchanging ghosts with one rank
+  double neighbors_mean = 0;
+  double partition_seconds = 0;  // graph, METIS, empty cells (rank 0 in a run)
+};
+
+struct PartitionReport {
+  std::string case_name;
+  int dimension = 2;
+  double spacing = 0, cutoff = 0;
+  std::int64_t fluid = 0, wall = 0;
+  std::array<long, 3> dims{1, 1, 1};  // cells per axis
+  long nonempty_cells = 0;
+  double setup_seconds = 0;  // particles, grid and weights
+  std::vector<PartitionStats> rows;
+};
+
+// Builds the case's particles and partitions their cell graph for every
+// rank count in `ranks` (each >= 1). Throws InputError for a bad case.
+PartitionReport partition_report(const Case& c, const std::vector<int>& ranks);
+
+// The report as an aligned table (what `sphdem partition` prints).
+std::string format_partition_table(const PartitionReport& r);
+
+// One header line, then one row per rank count; an infeasible rank count
+// has empty measurements and a note.
+void write_partition_csv(std::ostream& out, const PartitionReport& r);
+
+}  // namespace sphdem

@@ -1,0 +1,90 @@
+#pragma once
+// The fibers of a run (run.hpp, docs/dem.md): the case's fibers as bonded
+// DEM particles in the mold, whose boundary is DEM walls (segments in 2D,
+// rectangles in 3D) and whose moving walls (the piston) move, decomposed
+// over the ranks (DemDomain; bitwise the same on any number of ranks).
+//  - Alone (no resin): on their own decomposition of the mold's bounding
+//    box, weighted by the DEM particles per cell; one velocity-Verlet step
+//    of the stable DEM step per run step.
+//  - Coupled: on the resin's decomposition, their ghosts as far as the SPH
+//    kernel reaches; DEM sub-steps over each resin step, the drag of the
+//    last coupling pass held.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sphdem/config/case.hpp"
+#include "sphdem/dem/dem_fibers.hpp"
+#include "sphdem/geometry/mold_walls.hpp"
+#include "sphdem/parallel/decomposition.hpp"
+#include "sphdem/solver/dem_domain.hpp"
+#include "sphdem/solver/run.hpp"
+
+namespace sphdem {
+
+// The case's fibers, placed (every rank the same), with the walls and the
+// parameters of the case. InputError naming fibers.count or
+// fibers.area_fraction when they do not fit.
+template <int D>
+DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlacement& placement);
+
+// Where coupled fibers live: the resin's decomposition, the mold box they
+// must stay in, and how far their ghosts reach (the SPH kernel support).
+template <int D>
+struct FiberHost {
+  const Decomposition<D>& dec;
+  Box<D> domain;
+  double halo_range;
+};
+
+template <int D>
+class FiberModule final : public Module<D> {
+ public:
+  // Places the fibers (InputError naming fibers.count or
+  // fibers.area_fraction when they do not fit). host: null for fibers
+  // alone. Collective.
+  FiberModule(const RunContext<D>& ctx, const FiberHost<D>* host);
+  ~FiberModule() override;
+
+  const char* name() const override { return "fibers"; }
+  std::int64_t counted_particles() const override;
+  std::optional<TimeStep> stable_dt() override;
+  void predict(double dt) override;
+  void rebuild(bool restart) override;
+  void substep(double dt) override;
+  void check_health(std::string& problem) const override;
+  void add_cell_work(const Decomposition<D>& dec, std::vector<std::int64_t>& work) const override;
+  void snapshot(SnapshotParts& parts) override;
+  void progress(std::string& line) const override;
+  void write_checkpoint(CheckpointWriter& w) override;
+  std::function<void()> read_checkpoint(CheckpointReader& r, const std::string& path) override;
+
+  bool coupled() const { return host_.has_value(); }
+  const DemDomain<D>& dem() const { return *dem_; }
+  DemDomain<D>& dem() { return *dem_; }
+  const FiberPlacement& placement() const { return placement_; }
+  double dem_dt() const { return dem_dt_; }  // the stable DEM step
+  // Coupled: the sub-steps of the last resin step, and that step (whose
+  // drag impulse the next coupling pass returns).
+  std::int64_t substeps() const { return substeps_; }
+  double coupled_dt() const { return coupled_dt_; }
+
+ private:
+  // The DEM walls of moving walls at the motions' velocity at time t.
+  void move_walls(double t);
+
+  const RunContext<D>& ctx_;
+  std::optional<FiberHost<D>> host_;
+  FiberPlacement placement_;
+  std::vector<int> wall_owner_;                // per DEM wall: moving wall index or -1
+  Box<D> health_box_;                          // a fiber particle outside it ends the run
+  std::unique_ptr<Decomposition<D>> own_dec_;  // alone: the fibers' own cells
+  std::unique_ptr<DemDomain<D>> dem_;
+  double dem_dt_ = 0;
+  std::int64_t substeps_ = 0;
+  double coupled_dt_ = 0;
+};
+
+}  // namespace sphdem

@@ -1,0 +1,82 @@
+#pragma once
+// The resin of a run (run.hpp): weakly compressible SPH particles and the
+// mold's wall particles, on a decomposition of the mold (docs/parallel.md),
+// stepped with kick-drift-kick leapfrog (second order), the rates at the
+// end of the step evaluated on predicted velocity and density:
+//   v_h = v + dt/2 a,  rho_h = rho + dt/2 drho,  x += dt v_h
+//   rates(x, v_h + dt/2 a, rho_h + dt/2 drho) -> a', drho'
+//   v = v_h + dt/2 a',  rho = rho_h + dt/2 drho'
+// Only one neighbor pass per step (plus the wall extrapolation). Its
+// decomposition also carries the fibers of a coupled run.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sphdem/neighbor/neighbor.hpp"
+#include "sphdem/parallel/decomposition.hpp"
+#include "sphdem/parallel/halo.hpp"
+#include "sphdem/particles/particles.hpp"
+#include "sphdem/solver/run.hpp"
+#include "sphdem/sph/sph.hpp"
+
+namespace sphdem {
+
+template <int D>
+class ResinModule final : public Module<D> {
+ public:
+  // Builds, partitions and lists the case's particles (collective).
+  explicit ResinModule(const RunContext<D>& ctx);
+
+  const char* name() const override { return "resin"; }
+  std::int64_t counted_particles() const override { return n_fluid_global_; }
+  std::optional<TimeStep> stable_dt() override;
+  void predict(double dt) override;
+  bool moved() override;
+  void rebuild(bool restart) override;
+  void rates() override;
+  void correct(double dt) override;
+  void check_health(std::string& problem) const override;
+  void snapshot(SnapshotParts& parts) override;
+  void progress(std::string& line) const override;
+  void write_checkpoint(CheckpointWriter& w) override;
+  std::function<void()> read_checkpoint(CheckpointReader& r, const std::string& path) override;
+  void restarted() override;
+
+  const SphParticles<D>& particles() const { return ps_; }
+  SphParticles<D>& particles() { return ps_; }
+  std::int64_t global_fluid_count() const { return n_fluid_global_; }
+  std::int64_t global_wall_count() const { return n_wall_global_; }
+  const Box<D>& domain() const { return domain_; }
+  double neighbor_cutoff() const { return nl_.cutoff(); }
+  // Load balance (docs/parallel.md): the imbalance (max / mean - 1 of the
+  // per-rank work) at the last check, and how many re-partitions happened.
+  double last_imbalance() const { return last_imbalance_; }
+  std::int64_t repartitions() const { return repartitions_; }
+  const Decomposition<D>& decomposition() const { return dec_; }
+
+ private:
+  void maybe_rebalance();
+  std::vector<std::int64_t> cell_work() const;
+  std::vector<double> face_means(const std::vector<WallFaceSample>& face);
+  void set_wall_velocities(double t);
+
+  const RunContext<D>& ctx_;
+  const Case& case_;
+  const Comm& comm_;
+  PhaseTimers& timers_;
+  std::vector<WallMotion>& walls_;
+  SphParams sp_;
+  TaitEos eos_;
+  Box<D> domain_;
+  SphParticles<D> ps_;
+  NeighborList<D> nl_;
+  Halo<D> halo_;
+  std::int64_t n_fluid_global_ = 0, n_wall_global_ = 0;
+  Decomposition<D> dec_;
+  std::int64_t last_balance_step_ = 0;
+  double last_imbalance_ = 0;
+  std::int64_t repartitions_ = 0;
+};
+
+}  // namespace sphdem

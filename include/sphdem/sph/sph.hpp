@@ -1,0 +1,119 @@
+#pragma once
+// Weakly compressible SPH for the resin (docs/physics.md). Each physics term
+// lives in its own header under src/sph/terms/; the loops that visit the
+// neighbor lists are here (fluid_rates.cpp, wall_boundary.cpp). Nothing in
+// this module knows about ranks: it reads ghosts and writes owned particles.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "sphdem/config/case.hpp"
+#include "sphdem/neighbor/neighbor.hpp"
+#include "sphdem/particles/particles.hpp"
+#include "sphdem/sph/eos.hpp"
+#include "sphdem/sph/kernel.hpp"
+
+namespace sphdem {
+
+struct SphParams {
+  double h = 0;
+  double spacing = 0;
+  double rho0 = 0, c0 = 0, gamma = 7;
+  double mu = 0;          // laminar viscosity (0: none)
+  double mu_scale = 1;    // lattice correction of the viscous Laplacian
+  double grad_scale = 1;  // lattice correction of the kernel gradient
+  double alpha = 0;       // Monaghan artificial viscosity
+  double delta = 0;       // delta-SPH coefficient (0: off)
+  bool anti_clump = true;
+  double anti_clump_eps = 0.2;
+  int anti_clump_n = 4;
+  double eta2 = 0;  // 0.01 h^2, keeps 1/r^2 terms finite
+  Vec3a body_force{};
+  // output.fields: a neighbour-sum pass whose field is named here runs even
+  // when no active term reads it (src/sph/pass_loop.hpp).
+  std::vector<std::string> output_fields;
+};
+
+SphParams make_sph_params(const Case& c);
+
+// Lattice corrections (numerics.lattice_correction). On a Cartesian lattice
+// the discrete moment M = -sum_j V_j F(r_j) x_j^2 is not the continuum's 1:
+// at h/dp = 1.2 it is 0.964 in 2D (0.985 in 3D), so the SPH gradient of a
+// linear field is 3.6 % short and a resin column at rest settles at a
+// pressure 3.6 % above rho g depth. Scaling F by 1/M makes gradients (and
+// with the Morris weight r^2/(r^2+eta^2), the viscous Laplacian: 1/0.953)
+// exact on the lattice the resin starts on. A constant factor keeps the
+// pairwise antisymmetry, so momentum stays conserved; it tends to 1 as h/dp
+// grows.
+double gradient_lattice_correction(int dimension, double h_over_spacing);
+double viscous_lattice_correction(int dimension, double h_over_spacing);
+
+// Pressure of every fluid particle, ghosts included, from its density.
+template <int D>
+void compute_fluid_pressure(const TaitEos& eos, SphParticles<D>& ps);
+
+// The extrapolated pressure of one owned wall particle that touches resin
+// and belongs to a listed (moving or sliding) wall. The solver averages
+// them per wall over all ranks, adding them in global-id order so that the
+// mean does not depend on the rank count.
+struct WallFaceSample {
+  std::int64_t gid = 0;
+  std::int32_t wall = 0;
+  double p = 0;
+};
+
+// What the wall extrapolation needs to know of moving or sliding wall k.
+template <int D>
+struct WallKinematics {
+  Vec<D> accel = Vec<D>::Zero();  // the wall's acceleration [m/s^2]
+  double pressure_floor = 0.0;    // lowest extrapolated pressure [Pa]
+};
+
+// Dummy-particle walls (Adami, Hu & Adams 2012): every owned wall particle
+// takes pressure, density and a no-slip velocity from its resin neighbors.
+// Fixed walls (index -1) have a pressure floor of 0. Returns the face
+// pressure samples of the walls listed in `walls`, in local order.
+template <int D>
+std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEos& eos,
+                                               const NeighborList<D>& nl,
+                                               const std::vector<WallKinematics<D>>& walls,
+                                               SphParticles<D>& ps);
+
+// Continuity (paper Eq. 3, + optional delta-SPH) and momentum (paper Eq. 5
+// with the sign corrected: pressure, artificial viscosity, anti-clump,
+// laminar viscosity, body force) for every owned resin particle.
+template <int D>
+void compute_fluid_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps);
+
+// The neighbour-sum preparation passes that sp needs (src/sph/sph_terms.hpp,
+// SphPasses), in order: each writes one per-particle field of the owned
+// resin particles, then calls forward(group) so that the caller (the
+// solver; physics never calls MPI) refreshes that field's exchange group on
+// the ghosts before the next pass and the pair loop read it. Call it after
+// the wall state is current, before compute_fluid_rates. A pass that no
+// active term reads and output.fields does not name does not run.
+template <int D>
+void compute_fluid_passes(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
+                          const std::function<void(SphGroup)>& forward);
+
+// Largest speed (resin and walls) and resin acceleration over owned particles.
+struct LocalExtremes {
+  double v_max = 0;
+  double a_max = 0;
+};
+template <int D>
+LocalExtremes local_extremes(const SphParticles<D>& ps);
+
+// Adaptive time step (docs/physics.md): the smallest of the CFL, force and
+// viscous limits, and which one binds.
+// Dem: the stable DEM step of a fibers-only run (run.hpp).
+enum class DtLimit { Cfl, Force, Viscous, Fixed, Dem };
+const char* to_string(DtLimit l);
+struct TimeStep {
+  double dt = 0;
+  DtLimit limit = DtLimit::Cfl;
+};
+TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max, double a_max);
+
+}  // namespace sphdem
