@@ -18,11 +18,13 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <iostream>
 #include <string>
 #include <vector>
 
 #include "sphdem/config/config.hpp"
 #include "sphdem/io/checkpoint.hpp"
+#include "sphdem/particles/dem_particles.hpp"
 #include "sphdem/solver/solver.hpp"
 #include "validation_helpers.hpp"
 
@@ -236,6 +238,114 @@ TEST(Checkpoint, CoupledRunRestartsWithItsFibers) {
       EXPECT_EQ(worst, 0.0) << group << "/" << a[k].name << " (scale " << scale << ")";
     }
   }
+}
+
+// Fibers that touch (inputs/validation/coupled_contacts.yaml): the contact
+// histories between fibers and with the walls must survive the restart.
+// Before the fix the restart's second DEM rebuild, which came before any
+// force evaluation, stored the just-built pairs back into the slots as
+// "inactive" and so wiped every contact history: the DEM rows of touching
+// particles differed one step later (issue 15, defect 2).
+
+// The DEM particles of a checkpoint, every row, with the slots as records
+// (their padding bytes are undefined, so they are compared by member).
+DemParticles<2> read_dem(const std::string& path) {
+  const Comm self(MPI_COMM_SELF);
+  CheckpointReader r(self, path);
+  DemParticles<2> dem;
+  const std::vector<CheckpointColumn> cols = r.particles("dem", /*all_rows=*/true);
+  assign_checkpoint_columns(dem, cols, static_cast<std::size_t>(r.count("dem")), path);
+  return dem;
+}
+
+bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+template <class V>
+bool same_bits(const V& a, const V& b) {
+  return std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
+}
+
+template <class Slots>
+int slot_differences(const std::vector<Slots>& a, const std::vector<Slots>& b) {
+  int bad = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    for (std::size_t s = 0; s < a[i].size(); ++s)
+      bad += a[i][s].partner != b[i][s].partner || !same_bits(a[i][s].xi, b[i][s].xi);
+  return bad;
+}
+
+// Every SPH and DEM field of two checkpoints bitwise equal; the slots
+// member by member.
+void expect_same_coupled_state(const std::string& a, const std::string& b) {
+  if (world_rank() != 0) return;
+  expect_same_state(a, b);
+  const Comm self(MPI_COMM_SELF);
+  CheckpointReader ra(self, a), rb(self, b);
+  const std::vector<CheckpointColumn> ca = ra.particles("dem"), cb = rb.particles("dem");
+  ASSERT_EQ(ca.size(), cb.size());
+  for (std::size_t k = 0; k < ca.size(); ++k) {
+    if (ca[k].type == ColumnType::Bytes) continue;  // below, by member
+    EXPECT_TRUE(ca[k].data == cb[k].data) << "dem/" << ca[k].name << " differs";
+  }
+  const DemParticles<2> x = read_dem(a), y = read_dem(b);
+  ASSERT_EQ(x.n_owned, y.n_owned);
+  EXPECT_EQ(slot_differences(x.contacts, y.contacts), 0) << "contact histories differ";
+  EXPECT_EQ(slot_differences(x.wall_contacts, y.wall_contacts), 0)
+      << "wall contact histories differ";
+  int bonds = 0;
+  for (std::size_t i = 0; i < x.n_owned; ++i) {
+    for (std::size_t s = 0; s < x.bonds[i].size(); ++s) {
+      const DemBond<2>&p = x.bonds[i][s], &q = y.bonds[i][s];
+      bonds += p.partner != q.partner || p.broken != q.broken || !same_bits(p.fn, q.fn) ||
+               !same_bits(p.fs, q.fs) || !same_bits(p.mb, q.mb) || !same_bits(p.sigma, q.sigma);
+    }
+  }
+  EXPECT_EQ(bonds, 0) << "bond states differ";
+  EXPECT_EQ(ra.real("coupled_dt"), rb.real("coupled_dt"));
+  EXPECT_EQ(ra.integer("dem_substeps"), rb.integer("dem_substeps"));
+}
+
+TEST(Checkpoint, CoupledRestartIsBitwiseWhereFibersTouch) {
+  const Case c = testing::load_input("validation/coupled_contacts.yaml");
+  const std::int64_t n = 25;
+  const std::string dir = work_dir("contacts");
+  if (world_rank() == 0) fs::remove_all(dir);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const std::string straight = run_and_checkpoint(c, MPI_COMM_WORLD, dir + "/straight", 2 * n);
+  // Written on max(1, P - 1) ranks; restarted on those, on all P and on 1.
+  const int writers = std::max(1, world_size() - 1);
+  MPI_Comm sub = first_ranks(writers);
+  if (sub != MPI_COMM_NULL) run_and_checkpoint(c, sub, dir + "/half", n);
+  MPI_Barrier(MPI_COMM_WORLD);
+  const std::string half = checkpoint_path(dir + "/half", c.name, n);
+  // The test proves something only if fibers touch one another and the
+  // walls at the checkpoint.
+  if (world_rank() == 0) {
+    const DemParticles<2> dem = read_dem(half);
+    int pairs = 0, walls = 0;
+    for (std::size_t i = 0; i < dem.n_owned; ++i) {
+      for (const DemContact<2>& k : dem.contacts[i]) pairs += k.partner >= 0;
+      for (const DemContact<2>& k : dem.wall_contacts[i]) walls += k.partner < -1;
+    }
+    EXPECT_GT(pairs, 0) << "no two fibers touch at the checkpoint";
+    EXPECT_GT(walls, 0) << "no fiber touches a wall at the checkpoint";
+    std::cout << "contacts at the checkpoint: " << pairs << " between particles, " << walls
+              << " with walls\n";
+  }
+  if (sub != MPI_COMM_NULL) {
+    const std::string again = run_and_checkpoint(c, sub, dir + "/same", 2 * n, half);
+    expect_same_coupled_state(straight, again);
+    MPI_Comm_free(&sub);
+  }
+  const std::string all = run_and_checkpoint(c, MPI_COMM_WORLD, dir + "/all", 2 * n, half);
+  expect_same_coupled_state(straight, all);
+  if (world_rank() == 0) {
+    const std::string one = run_and_checkpoint(c, MPI_COMM_SELF, dir + "/one", 2 * n, half);
+    expect_same_coupled_state(straight, one);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
 }
 
 TEST(Checkpoint, ColumnsRoundTripAContainer) {

@@ -135,11 +135,13 @@ int bond_slot(const BondSlots<D>& b, std::int64_t partner) {
   return -1;
 }
 
+// The stored history of the contact with `partner`, or null: the pair was
+// not touching at the last evaluation before the slots were written.
 template <int D>
-Vec<D> contact_history(const ContactSlots<D>& slots, std::int64_t partner) {
+const DemContact<D>* contact_history(const ContactSlots<D>& slots, std::int64_t partner) {
   for (const auto& c : slots)
-    if (c.partner == partner) return c.xi;
-  return Vec<D>::Zero();
+    if (c.partner == partner) return &c;
+  return nullptr;
 }
 
 // The contact damping of a pair from the two masses, remembering the last

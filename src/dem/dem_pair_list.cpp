@@ -80,7 +80,14 @@ void dem_build_pairs(const DemParams<D>& p, const std::vector<DemWall<D>>& walls
       DemPair<D> pr;
       pr.a = static_cast<std::int32_t>(a);
       pr.b = static_cast<std::int32_t>(b);
-      pr.xi = contact_history<D>(ps.contacts[a], ps.gid[b]);
+      // A stored history is a contact that was active at the last evaluation:
+      // it stays active, and goes back to the slots, until the next one
+      // decides (a rebuild before any evaluation, as at a restart, must not
+      // drop it).
+      if (const DemContact<D>* c = contact_history<D>(ps.contacts[a], ps.gid[b])) {
+        pr.xi = c->xi;
+        pr.active = true;
+      }
       damping.set(ps, pr);
       ws.pairs.push_back(pr);
     });

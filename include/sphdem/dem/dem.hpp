@@ -90,9 +90,12 @@ std::vector<DemWall<D>> box_walls(const Vec<D>& lo, const Vec<D>& hi);
 // both ranks compute the same update from the same inputs).
 template <int D>
 struct DemPair {
-  std::int32_t a = 0, b = 0;                        // local indices, gid[a] < gid[b]
-  std::int8_t bond = -1;                            // slot in a's bonds, -1 = none
-  bool active = false;                              // f, ta, tb hold a force of the last evaluation
+  std::int32_t a = 0, b = 0;  // local indices, gid[a] < gid[b]
+  std::int8_t bond = -1;      // slot in a's bonds, -1 = none
+  // Touching (or bonded) at the last evaluation: f, ta, tb hold its force.
+  // A contact built from a stored history is active (f, ta, tb zero until
+  // evaluated), so that its history goes back to the slots until then.
+  bool active = false;
   double cn = 0, ct = 0;                            // contact damping for the pair's effective mass
   Vec<D> xi = Vec<D>::Zero();                       // tangential spring of the contact
   Vec<D> f = Vec<D>::Zero();                        // force on b (a receives -f)
