@@ -30,10 +30,12 @@ endif()
 sphdem_test(test_case_fibers SOURCES test_case_fibers.cpp RANKS 1 2 LABELS "unit;dem")
 
 # DEM on 1-4 ranks: bitwise the same as one rank (docs/parallel.md).
-# The serial driver's comparison runs at 1 rank only.
+# The serial driver's comparison and the double rebuild (contact histories
+# kept) run at 1 rank only.
 sphdem_test(test_dem_parallel SOURCES test_dem_parallel.cpp RANKS 1 2 3 4 LABELS "mpi;dem"
             TIMEOUT 300 MULTI_RANK_TESTS "DemParallel.*AcrossRanks*"
-            ONE_RANK_TESTS "DemParallel.SerialDriverMatchesDomain")
+            ONE_RANK_TESTS
+            "DemParallel.SerialDriverMatchesDomain:DemParallel.RebuildBeforeEvaluationKeepsContactHistory")
 
 # The SPH-DEM coupling end to end (docs/physics.md "Coupling").
 # The two reference solutions run on one rank; the momentum balance on 1

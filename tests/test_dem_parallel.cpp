@@ -118,8 +118,12 @@ struct RunResult {
 };
 
 // The system on `comm`, decomposed by DEM particles per cell.
+// rebuild_twice: two rebuilds after every 100 sub-steps, the second before
+// any force evaluation (as a coupled restart does): the results must not
+// change.
 template <int D>
-RunResult<D> run_domain(const Comm& comm, int fibers, double strength, std::int64_t steps) {
+RunResult<D> run_domain(const Comm& comm, int fibers, double strength, std::int64_t steps,
+                        bool rebuild_twice = false) {
   DemSystem<D> sys = make_system<D>(fibers, strength);
   const double dt = sys.stable_dt();
   Box<D> box{Vec<D>::Constant(-1e-3), Vec<D>::Constant(7e-3)};
@@ -135,6 +139,10 @@ RunResult<D> run_domain(const Comm& comm, int fibers, double strength, std::int6
     dom.advance(100, dt);
     dom.store_state();
     count_crossings(dom.particles(), local);
+    if (rebuild_twice) {
+      dom.rebuild();
+      dom.rebuild();
+    }
   }
   r.crossings.bonds_to_ghosts = comm.sum(local.bonds_to_ghosts);
   r.crossings.contacts_to_ghosts = comm.sum(local.contacts_to_ghosts);
@@ -195,6 +203,18 @@ TEST(DemParallel, SerialDriverMatchesDomain) {
   for (int s = 0; s < 1500; ++s) sys.step(dt);
   const RunResult<2> dom = run_domain<2>(self, 30, 1e12, 1500);
   expect_identical(gather<2>(self, sys.particles), dom.rows);
+}
+
+// A rebuild stores the pairs' contact histories back into the slots and
+// reads them again; one that comes before any force evaluation since the
+// last (a coupled restart rebuilds twice) must keep them too. It dropped
+// them before issue 15 (defect 2): the trajectories then differed.
+TEST(DemParallel, RebuildBeforeEvaluationKeepsContactHistory) {
+  const Comm self(MPI_COMM_SELF);
+  const RunResult<2> plain = run_domain<2>(self, 30, 1e12, 1500);
+  const RunResult<2> twice = run_domain<2>(self, 30, 1e12, 1500, /*rebuild_twice=*/true);
+  EXPECT_GT(twice.rebuilds, plain.rebuilds + 20);
+  expect_identical(plain.rows, twice.rows);
 }
 
 }  // namespace
