@@ -309,7 +309,7 @@ void expect_same_coupled_state(const std::string& a, const std::string& b) {
 
 TEST(Checkpoint, CoupledRestartIsBitwiseWhereFibersTouch) {
   const Case c = testing::load_input("validation/coupled_contacts.yaml");
-  const std::int64_t n = 25;
+  const std::int64_t n = 500;
   const std::string dir = work_dir("contacts");
   if (world_rank() == 0) fs::remove_all(dir);
   MPI_Barrier(MPI_COMM_WORLD);
