@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <thread>
@@ -95,7 +96,8 @@ double fiber_particles(const Case& c) {
   double region = 1;
   for (int d = 0; d < c.dimension; ++d) region *= f.region.hi[d] - f.region.lo[d];
   const double r = f.diameter / 2;
-  const double particle = c.dimension == 2 ? M_PI * r * r : 4.0 / 3.0 * M_PI * r * r * r;
+  const double particle =
+      c.dimension == 2 ? std::numbers::pi * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
   return f.area_fraction * region / particle;
 }
 
