@@ -50,7 +50,7 @@ collect="$out/jobs/collect.pbs"
 cat > "$collect" <<JOB
 #!/bin/bash
 #PBS -N scaling_collect
-#PBS -l select=1:ncpus=1
+#PBS -l select=1:ncpus=1:mpiprocs=1
 #PBS -j oe
 #PBS -o $out/jobs/collect.log
 set -euo pipefail

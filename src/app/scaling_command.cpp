@@ -134,9 +134,9 @@ void check_periodic(const Case& c, const Box<3>& dom, int ranks, double spacing)
           "--weak",
           fmt::format("at {} ranks the refined spacing {:.6g} m is not a whole fraction of the "
                       "periodic length along axis {} ({:.4f} spacings); use rank counts that "
-                      "are {}th powers (e.g. 1,{},{})",
-                      ranks, spacing, k, cells, c.dimension, 1 << c.dimension,
-                      1 << (2 * c.dimension)));
+                      "are {} (e.g. {})",
+                      ranks, spacing, k, cells, c.dimension == 2 ? "squares" : "cubes",
+                      c.dimension == 2 ? "1,4,16" : "1,8,64"));
   }
 }
 
@@ -193,8 +193,8 @@ std::vector<Point> plan_study(const ScalingArgs& a) {
   if (need > have)
     throw option_error(
         a.weak ? "--weak" : "--ranks",
-        fmt::format("the case at {} ranks has about {:.3g} particles and needs about {:.1f} GB, "
-                    "more than the {:.1f} GB available ({} B per particle; --memory-gb sets the "
+        fmt::format("the case at {} ranks has about {:.3g} particles and needs about {:.3g} GB, "
+                    "more than the {:.3g} GB available ({} B per particle; --memory-gb sets the "
                     "memory of the launcher's nodes)",
                     ranks.back(), largest, need / 1e9, have / 1e9,
                     bytes_per_particle(c.dimension)));
