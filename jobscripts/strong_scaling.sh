@@ -1,4 +1,5 @@
 #!/bin/bash
+# (bench_sph's channel only; any case file: `sphdem scaling`, docs/scaling.md.)
 # Strong scaling: the same 2D channel (default 1440 x 140 resin particles,
 # 210k with walls) on 1, 2, ... ranks; the best of REPEAT runs (default 3)
 # per rank count. Writes CSV: ranks,particles,steps,seconds,particle_steps_per_s

@@ -1,4 +1,5 @@
 #!/bin/bash
+# (bench_sph's channel only; any case file: `sphdem scaling`, docs/scaling.md.)
 # Weak scaling: a 2D channel with about 100k particles per rank (720 x 132
 # resin particles per rank, stacked along x); the best of REPEAT runs
 # (default 3) per rank count. CSV as strong_scaling.sh.

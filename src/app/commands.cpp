@@ -9,6 +9,7 @@
 
 #include "output_dir.hpp"
 #include "partition_command.hpp"
+#include "scaling_command.hpp"
 #include "signals.hpp"
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
@@ -244,6 +245,8 @@ int dispatch(int argc, char** argv) {
 
   PartitionArgs part;
   CLI::App* part_cmd = add_partition_command(app, part);
+  ScalingArgs scaling;  // listed here; main runs it before MPI_Init (scaling_command.hpp)
+  CLI::App* scaling_cmd = add_scaling_command(app, scaling);
 
   try {
     app.parse(argc, argv);
@@ -259,6 +262,9 @@ int dispatch(int argc, char** argv) {
     return 0;
   }
   if (part_cmd->parsed()) return run_partition_command(part, comm);
+  if (scaling_cmd->parsed())
+    throw InputError("scaling", 0, "",
+                     "give it first on the command line: sphdem scaling CASE ...");
   if (run_cmd->parsed()) install_stop_signals();
   const RunArgs& a = run_cmd->parsed() ? run : check;
   const Case c = load_case_on_every_rank(comm, a);

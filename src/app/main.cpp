@@ -1,5 +1,6 @@
 // The sphdem command line: `sphdem run case.yaml`, `sphdem check case.yaml`,
-// `sphdem partition case.yaml --ranks 64,256`, `sphdem keys [--markdown]`.
+// `sphdem partition case.yaml --ranks 64,256`, `sphdem keys [--markdown]`,
+// `sphdem scaling case.yaml --ranks 1,2,4 --steps N` (no MPI: it launches runs).
 // Exit status (include/sphdem/core/errors.hpp, docs/architecture.md "Errors"):
 // 0 success, 2 bad input (nothing written), 3 the simulation failed (last
 // state written when every rank saw the failure), 1 anything else.
@@ -8,12 +9,18 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <iostream>
+#include <string_view>
 
 #include "commands.hpp"
 #include "fault_handler.hpp"
+#include "scaling_command.hpp"
 #include "sphdem/core/errors.hpp"
 
 int main(int argc, char** argv) {
+  // A scaling study starts its runs with mpiexec/srun, which an MPI process
+  // (an Open MPI singleton) cannot: it never initialises MPI.
+  if (argc > 1 && std::string_view(argv[1]) == "scaling")
+    return sphdem::app::scaling_main(argc, argv);
   MPI_Init(&argc, &argv);
   sphdem::app::install_fault_handler();
   int rank = 0;
