@@ -9,6 +9,15 @@ namespace {
 
 constexpr const char* kSlipNames[] = {"no_slip", "free_slip", "navier_slip"};
 
+// A setting (and identity line) only when the case gives the key, so that
+// the identity of a case without wall conditions keeps its earlier lines.
+template <class W>
+auto only_when_given(bool (*given)(const W&), std::function<std::string(const W&)> show) {
+  return [given, show](const W& w, const std::string& key, std::vector<Setting>& out) {
+    if (given(w)) out.push_back({key, show(w), true, false});
+  };
+}
+
 template <class W>
 Key<W> wall_condition(std::string default_text) {
   Key<W> k{"wall_condition",
@@ -27,15 +36,20 @@ Key<W> wall_condition(std::string default_text) {
     return w.wall_condition ? std::string(kSlipNames[static_cast<int>(*w.wall_condition)])
                             : std::string("none");
   };
+  k.section_settings =
+      only_when_given<W>([](const W& w) { return w.wall_condition.has_value(); }, k.show);
   return k;
 }
 
 template <class W>
 Key<W> slip_length() {
-  return optional_number<W>("slip_length", "m", non_negative_number(), &W::slip_length,
-                            "Navier slip length b (wall slip velocity = b * wall shear rate); "
-                            "with navier_slip only; 0 = no-slip")
-      .defaults_to("required with navier_slip");
+  Key<W> k = optional_number<W>("slip_length", "m", non_negative_number(), &W::slip_length,
+                                "Navier slip length b (wall slip velocity = b * wall shear "
+                                "rate); with navier_slip only; 0 = no-slip");
+  k.defaults_to("required with navier_slip");
+  k.section_settings =
+      only_when_given<W>([](const W& w) { return w.slip_length.has_value(); }, k.show);
+  return k;
 }
 
 // slip_length belongs to navier_slip, and navier_slip needs it.
