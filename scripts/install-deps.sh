@@ -6,7 +6,7 @@ set -euo pipefail
 want=(
   build-essential cmake pkg-config clang-format
   openmpi-bin libopenmpi-dev libhdf5-openmpi-dev hdf5-tools
-  libmetis-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev
+  libmetis-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev libmuparser-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-h5py python3-matplotlib python3-yaml
 )

@@ -357,10 +357,10 @@ TEST(Checkpoint, ColumnsRoundTripAContainer) {
   std::vector<CheckpointColumn> cols = checkpoint_columns(ps);
   std::vector<std::string> names;
   for (const auto& c : cols) names.push_back(c.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"gid", "kind", "wall", "mass", "x", "v", "rho", "a",
-                                             "drho"}));
-  EXPECT_EQ(cols[4].type, ColumnType::F64);
-  EXPECT_EQ(cols[4].components, 2);
+  EXPECT_EQ(names, (std::vector<std::string>{"gid", "kind", "wall", "mass", "wall_to_surface", "x",
+                                             "v", "rho", "a", "drho"}));
+  EXPECT_EQ(cols[5].type, ColumnType::F64);
+  EXPECT_EQ(cols[5].components, 2);
   EXPECT_EQ(cols[1].type, ColumnType::U8);
   SphParticles<2> back;
   assign_checkpoint_columns(back, cols, 5, "test");

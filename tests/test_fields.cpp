@@ -221,8 +221,8 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   std::vector<std::string> sph, dem;
   for (const CheckpointColumn& c : checkpoint_columns(SphParticles<2>{})) sph.push_back(c.name);
   for (const CheckpointColumn& c : checkpoint_columns(DemParticles<2>{})) dem.push_back(c.name);
-  EXPECT_EQ(
-      sph, (std::vector<std::string>{"gid", "kind", "wall", "mass", "x", "v", "rho", "a", "drho"}));
+  EXPECT_EQ(sph, (std::vector<std::string>{"gid", "kind", "wall", "mass", "wall_to_surface", "x",
+                                           "v", "rho", "a", "drho"}));
   EXPECT_EQ(dem, (std::vector<std::string>{"gid", "fiber", "fixed", "radius", "mass", "inertia",
                                            "x", "v", "omega", "force", "torque", "f_ext",
                                            "drag_coeff", "drag_velocity", "drag_force",

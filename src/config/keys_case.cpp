@@ -186,6 +186,10 @@ Section<Case> make_case() {
              "starts moving with it instead of ringing)")
           .defaults_to("zero")
           .identity(),
+      mapping_list("initial_fields", initial_field_keys, &Case::initial_fields,
+                   "the resin's velocity, density or pressure at t = 0 as expressions of x, y, z, "
+                   "per fill region")
+          .identity(),
       output(),
       mapping("parallel", parallel_keys, &Case::parallel, "load balancing across MPI ranks"),
       mapping("checkpoint", checkpoint_keys, &Case::checkpoint, "checkpoints for restart")

@@ -5,6 +5,63 @@ namespace sphdem::config {
 
 namespace {
 
+// --- wall conditions (docs/physics.md "Wall conditions") ---------------------
+
+constexpr const char* kSlipNames[] = {"no_slip", "free_slip", "navier_slip"};
+
+// A setting (and identity line) only when the case gives the key, so that
+// the identity of a case without wall conditions keeps its earlier lines.
+template <class W>
+auto only_when_given(bool (*given)(const W&), std::function<std::string(const W&)> show) {
+  return [given, show](const W& w, const std::string& key, std::vector<Setting>& out) {
+    if (given(w)) out.push_back({key, show(w), true, false});
+  };
+}
+
+template <class W>
+Key<W> wall_condition(std::string default_text) {
+  Key<W> k{"wall_condition",
+           "enum",
+           "",
+           std::move(default_text),
+           "no_slip, free_slip or navier_slip",
+           "what the resin sees at this wall: no_slip (it sticks), free_slip (it slides "
+           "freely), navier_slip (it slides with a slip_length)"};
+  k.read = [](const Value& v, W& w, Context&) {
+    const std::string name = one_of(v, {kSlipNames[0], kSlipNames[1], kSlipNames[2]});
+    for (int i = 0; i < 3; ++i)
+      if (name == kSlipNames[i]) w.wall_condition = static_cast<WallSlip>(i);
+  };
+  k.show = [](const W& w) {
+    return w.wall_condition ? std::string(kSlipNames[static_cast<int>(*w.wall_condition)])
+                            : std::string("none");
+  };
+  k.section_settings =
+      only_when_given<W>([](const W& w) { return w.wall_condition.has_value(); }, k.show);
+  return k;
+}
+
+template <class W>
+Key<W> slip_length() {
+  Key<W> k = optional_number<W>("slip_length", "m", non_negative_number(), &W::slip_length,
+                                "Navier slip length b (wall slip velocity = b * wall shear "
+                                "rate); with navier_slip only; 0 = no-slip");
+  k.defaults_to("required with navier_slip");
+  k.section_settings =
+      only_when_given<W>([](const W& w) { return w.slip_length.has_value(); }, k.show);
+  return k;
+}
+
+// slip_length belongs to navier_slip, and navier_slip needs it.
+template <class W>
+void check_wall_condition(const Map& m, W& w, Context&) {
+  const bool navier = w.wall_condition == WallSlip::NavierSlip;
+  if (navier && !w.slip_length) m.require("slip_length", " (wall_condition navier_slip)");
+  if (!navier && w.slip_length) {
+    m.require("slip_length").fail("only with wall_condition: navier_slip");
+  }
+}
+
 Section<Mold> make_mold() {
   Section<Mold> s;
   s.keys = {
@@ -13,8 +70,15 @@ Section<Mold> make_mold() {
       shape_list("shapes", &Mold::shapes, "the cavity is their union; polygons in 2D only")
           .required()
           .identity(),
+      wall_condition<Mold>("no_slip").identity(),
+      slip_length<Mold>().identity(),
   };
-  s.notes = "The cavity is the union of the shapes; walls are built around it.\n";
+  s.finish = check_wall_condition<Mold>;
+  s.notes =
+      "The cavity is the union of the shapes; walls are built around it.\n"
+      "`wall_condition` applies to every wall particle that no moving or sliding\n"
+      "wall claims; those take their own `wall_condition`, or this one. A wall\n"
+      "region of its own condition is a sliding wall with velocity zero.\n";
   return s;
 }
 
@@ -58,8 +122,9 @@ Key<W> wall_name() {
 }
 
 template <class W>
-void remember_line(const Map& m, W& w, Context&) {
+void remember_line(const Map& m, W& w, Context& ctx) {
   w.line = m.self().line();
+  check_wall_condition(m, w, ctx);
 }
 
 Key<MovingWall> velocity_table() {
@@ -98,6 +163,8 @@ Section<MovingWall> make_moving_wall() {
              "piston freely; 101325: a sealed piston with air at 1 atm behind the resin front "
              "(WCSPH resin in tension may then cavitate)")
           .identity(),
+      wall_condition<W>("mold.wall_condition").identity(),
+      slip_length<W>().identity(),
   };
   s.finish = remember_line<W>;
   s.intro = "Each item is a wall that moves with a prescribed velocity (the piston).\n";
@@ -119,6 +186,8 @@ Section<SlidingWall> make_sliding_wall() {
           .required()
           .identity(),
       vector("velocity", "m/s", &W::velocity, "tangential surface velocity").required().identity(),
+      wall_condition<W>("mold.wall_condition").identity(),
+      slip_length<W>().identity(),
   };
   s.finish = remember_line<W>;
   s.intro =

@@ -364,6 +364,7 @@ const Section<Output>& output_keys();        // keys_output.cpp
 void output_defaults(Output& o, const Case& c);
 const Section<ParallelSettings>& parallel_keys();
 const Section<CheckpointSettings>& checkpoint_keys();
+const Section<InitialFields>& initial_field_keys();  // keys_initial.cpp
 
 // "unknown value 'x' (did you mean 'y'?)" unless `v` is one of `allowed`.
 std::string one_of(const Value& v, const std::vector<std::string>& allowed);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "initial_fields.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/geometry/geometry.hpp"
 #include "sphdem/sph/eos.hpp"
@@ -70,6 +71,23 @@ std::int32_t wall_index_at(const Case& c, const Vec<D>& p, double tol) {
   return -1;
 }
 
+// From a wall node to the nearest point of the mold's surface: the gradient
+// of the distance to the cavity (central differences) points away from it.
+template <int D>
+Vec<D> to_mold_surface(const std::vector<Shape>& shapes, const Vec<D>& p, double dx) {
+  const double d = union_distance<D>(shapes, p);
+  const double e = 1e-4 * dx;
+  Vec<D> grad;
+  for (int k = 0; k < D; ++k) {
+    Vec<D> a = p, b = p;
+    a[k] += e;
+    b[k] -= e;
+    grad[k] = (union_distance<D>(shapes, a) - union_distance<D>(shapes, b)) / (2 * e);
+  }
+  const double g = grad.norm();
+  return g > 0 ? Vec<D>(-d / g * grad) : Vec<D>::Zero();
+}
+
 template <int D>
 bool inside_domain(const Box<D>& dom, const Vec<D>& p) {
   for (int k = 0; k < D; ++k)
@@ -109,6 +127,7 @@ InitialCounts build_initial_particles(const Case& c, SphParticles<D>& out) {
   const double mass = rho0 * std::pow(L.dx, D);
 
   std::vector<Vec<D>> fluid, wall;
+  std::vector<std::size_t> fill_of;  // per resin node: the fill shape it is in
   std::vector<std::size_t> fill_hits(c.fill.size(), 0);
   for_each_node<D>(L, [&](const Vec<D>& p) {
     if (!inside_domain<D>(dom, p)) return;
@@ -116,6 +135,7 @@ InitialCounts build_initial_particles(const Case& c, SphParticles<D>& out) {
       for (std::size_t f = 0; f < c.fill.size(); ++f) {
         if (shape_contains<D>(c.fill[f], p, tol)) {
           fluid.push_back(p);
+          fill_of.push_back(f);
           ++fill_hits[f];
           break;
         }
@@ -140,8 +160,10 @@ InitialCounts build_initial_particles(const Case& c, SphParticles<D>& out) {
   }
   for (const Vec<D>& p : wall) {
     out.push_owned(id++, Kind::Wall, wall_index_at<D>(c, p, tol), mass, p, Vec<D>::Zero(), rho0);
+    out.wall_to_surface.back() = to_mold_surface<D>(c.mold.shapes, p, L.dx);
   }
   hydrostatic_densities<D>(c, out, fluid.size());
+  apply_initial_fields<D>(c, fill_of, out);
   return InitialCounts{fluid.size(), wall.size()};
 }
 

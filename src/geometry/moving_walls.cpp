@@ -62,12 +62,14 @@ std::vector<WallMotion> make_wall_motions(const Case& c) {
     w.pressure_limit = m.pressure_limit.value_or(0.0);
     w.relax_time = m.pressure_relax_time;
     w.adhesion_pressure = m.adhesion_pressure;
+    w.slip = resolve_wall_slip(m, c.mold);
     out.push_back(w);
   }
   for (const SlidingWall& s : c.sliding_walls) {
     WallMotion w;
     w.name = s.name;
     w.surface_velocity = s.velocity;
+    w.slip = resolve_wall_slip(s, c.mold);
     out.push_back(w);
   }
   return out;

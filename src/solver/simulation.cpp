@@ -141,6 +141,7 @@ void ResinModule<D>::rates() {
   for (std::size_t k = 0; k < walls_.size(); ++k) {
     kin[k].accel = to_vec<D>(walls_[k].acceleration(time));
     kin[k].pressure_floor = -walls_[k].adhesion_pressure;
+    kin[k].slip = walls_[k].slip;
   }
   const std::vector<WallFaceSample> face = compute_wall_state<D>(sp_, eos_, nl_, kin, ps_);
   update_wall_controllers(walls_, face_means(face), ctx_.clock.dt.dt);

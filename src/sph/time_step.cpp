@@ -25,6 +25,7 @@ SphParams make_sph_params(const Case& c) {
   sp.anti_clump_n = c.numerics.anti_clump_exponent;
   sp.eta2 = 0.01 * sp.h * sp.h;
   sp.body_force = c.body_force;
+  sp.mold_wall = resolve_wall_slip(c.mold, c.mold);
   sp.output_fields = c.output.fields;
   return sp;
 }

@@ -1,8 +1,11 @@
-// No-slip dummy wall particles, Adami, Hu & Adams (2012), JCP 231:7057.
+// Dummy wall particles, Adami, Hu & Adams (2012), JCP 231:7057.
 // For a wall particle w with resin neighbors f:
 //   P_w = (sum_f P_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf
 //   rho_w = EOS^-1(P_w)
-//   v_w(no-slip) = 2 v_w - sum_f v_f W_wf / sum_f W_wf
+//   v_w(no-slip) = 2 v_w - v~,  v~ = sum_f v_f W_wf / sum_f W_wf
+// Slip walls (docs/physics.md "Wall conditions") keep the normal part of the
+// no-slip velocity (the wall stays impermeable) and change the tangential
+// part, see dummy_velocity below.
 // A wall particle with no resin neighbor gets P = 0, rho = rho0 and its own
 // velocity. Negative wall pressures are clipped at the wall's floor: 0, or
 // minus a moving wall's adhesion_pressure.
@@ -12,6 +15,36 @@
 #include "sphdem/sph/sph.hpp"
 
 namespace sphdem {
+
+namespace {
+
+// The velocity the resin sees at a dummy particle of velocity vw, at depth
+// d = |s| behind the wall (s: from the particle to the wall surface, along
+// the normal into the resin), given the resin's Shepard mean v~. With
+// r = v~ - vw split into normal and tangential parts r_n, r_t:
+//   u = vw - r_n + f r_t,
+// f = -1: no-slip (u = 2 vw - v~, Adami et al. 2012); f = 1: free slip
+// (the tangential velocity is the resin's; the wall exerts no shear);
+// Navier slip with length b: f = (b - d) / (b + d), the value at depth d of
+// the linear profile that reaches vw at b behind the wall (the Navier
+// condition u_slip = b du/dn), mirrored as in the no-slip case; this is the
+// fictitious-particle extrapolation of Morris, Fox & Zhu (1997, JCP
+// 136:214) with the profile's zero moved from the wall to b behind
+// it. b = 0 gives no-slip, b -> infinity free slip.
+template <int D>
+Vec<D> dummy_velocity(const WallSlipLaw& law, const Vec<D>& vw, const Vec<D>& v_mean,
+                      const Vec<D>& s) {
+  const double d = s.norm();
+  if (law.type == WallSlip::NoSlip || !(d > 0.0)) return 2.0 * vw - v_mean;
+  const Vec<D> n = s / d;
+  const Vec<D> r = v_mean - vw;
+  const Vec<D> r_n = n.dot(r) * n;
+  const double b = law.slip_length;
+  const double f = law.type == WallSlip::FreeSlip ? 1.0 : (b - d) / (b + d);
+  return vw - r_n + f * (r - r_n);
+}
+
+}  // namespace
 
 template <int D>
 std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEos& eos,
@@ -54,7 +87,8 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
     const double p = std::max(floor, (sum_p + (g - a_w).dot(sum_rho_r)) / sum_w);
     ps.p[w] = p;
     ps.rho[w] = eos.density(p);
-    ps.vwall[w] = 2.0 * ps.v[w] - sum_v / sum_w;
+    const WallSlipLaw& law = listed ? walls[static_cast<std::size_t>(k)].slip : sp.mold_wall;
+    ps.vwall[w] = dummy_velocity<D>(law, ps.v[w], sum_v / sum_w, ps.wall_to_surface[w]);
     if (listed) face.push_back({ps.gid[w], k, p});
   }
   return face;

@@ -52,7 +52,30 @@ struct Numerics {
   double neighbor_skin = 0.1;  // Verlet skin as a fraction of the support 2h
 };
 
-struct Mold {
+// What the resin sees at a wall (docs/physics.md "Wall conditions"): the
+// velocity of the dummy wall particles in the viscous term.
+enum class WallSlip { NoSlip, FreeSlip, NavierSlip };
+
+// A wall condition as given in the case file: unset fields fall back to the
+// mold's (for a moving or sliding wall) or to no-slip (for the mold).
+struct WallConditionKeys {
+  std::optional<WallSlip> wall_condition;
+  std::optional<double> slip_length;  // [m], navier_slip only
+};
+
+// A resolved wall condition.
+struct WallSlipLaw {
+  WallSlip type = WallSlip::NoSlip;
+  double slip_length = 0;  // [m], navier_slip
+};
+
+// The condition of a wall that gives `own` keys, falling back to the mold's.
+inline WallSlipLaw resolve_wall_slip(const WallConditionKeys& own, const WallConditionKeys& mold) {
+  const WallConditionKeys& from = own.wall_condition ? own : mold;
+  return {from.wall_condition.value_or(WallSlip::NoSlip), from.slip_length.value_or(0.0)};
+}
+
+struct Mold : WallConditionKeys {
   std::vector<Shape> shapes;  // the cavity is their union
   int wall_layers = 3;
 };
@@ -64,7 +87,7 @@ struct VelocityTable {
   std::vector<Vec3a> velocity;
 };
 
-struct MovingWall {
+struct MovingWall : WallConditionKeys {
   std::string name;
   Shape region;  // wall particles inside it belong to this wall
   VelocityTable velocity;
@@ -74,10 +97,29 @@ struct MovingWall {
   int line = 0;
 };
 
-struct SlidingWall {
+struct SlidingWall : WallConditionKeys {
   std::string name;
   Shape region;
   Vec3a velocity{};  // tangential surface velocity [m/s]; the particles stay put
+  int line = 0;
+};
+
+// An expression of x, y, z [m] (muParser syntax, docs/case-file.md
+// "initial_fields"), with where it was given for errors found later (a
+// value that is not finite at some particle).
+struct Expression {
+  std::string text;
+  std::string key;
+  int line = 0;
+};
+
+// Initial fields of the resin of some fill regions, as expressions.
+// Temperature joins these with the melt model (issue 18 leaves it out).
+struct InitialFields {
+  std::optional<int> fill;             // index into Case::fill; none: every fill region
+  std::vector<Expression> velocity;    // D components, or empty: initial_velocity
+  std::optional<Expression> density;   // [kg/m^3]
+  std::optional<Expression> pressure;  // [Pa], density from the equation of state
   int line = 0;
 };
 
@@ -145,6 +187,9 @@ struct Case {
   std::vector<SlidingWall> sliding_walls;
   Vec3a body_force{};        // [m/s^2]
   Vec3a initial_velocity{};  // [m/s] of the resin at t = 0
+  // Expressions per fill region, applied after initial_velocity and the
+  // hydrostatic start, in list order (a later item wins).
+  std::vector<InitialFields> initial_fields;
   std::array<bool, 3> periodic{false, false, false};
   std::optional<Vec3a> domain_lo, domain_hi;  // default: mold bbox + wall layers
   Output output;

@@ -30,6 +30,7 @@ struct SphParams {
   int anti_clump_n = 4;
   double eta2 = 0;  // 0.01 h^2, keeps 1/r^2 terms finite
   Vec3a body_force{};
+  WallSlipLaw mold_wall;  // the condition of the fixed mold walls (wall index -1)
   // output.fields: a neighbour-sum pass whose field is named here runs even
   // when no active term reads it (src/sph/pass_loop.hpp).
   std::vector<std::string> output_fields;
@@ -68,6 +69,7 @@ template <int D>
 struct WallKinematics {
   Vec<D> accel = Vec<D>::Zero();  // the wall's acceleration [m/s^2]
   double pressure_floor = 0.0;    // lowest extrapolated pressure [Pa]
+  WallSlipLaw slip;               // what the resin sees at this wall
 };
 
 // Dummy-particle walls (Adami, Hu & Adams 2012): every owned wall particle
