@@ -75,7 +75,8 @@ def _from_xdmf(xdmf):
     except (ET.ParseError, OSError) as e:
         raise ToolError("cannot read the XDMF index %s: %s" % (xdmf, e))
     directory = os.path.dirname(os.path.abspath(xdmf))
-    refs = []
+    refs, seen = [], set()
+    # Each set is its own temporal collection, so a snapshot is listed once per set.
     for grid in root.iter("Grid"):
         time = grid.find("Time")
         if time is None:
@@ -84,6 +85,9 @@ def _from_xdmf(xdmf):
         if item is None or item.text is None:
             continue
         name = item.text.strip().partition(":")[0]
+        if name in seen:
+            continue
+        seen.add(name)
         refs.append(SnapshotRef(os.path.join(directory, name), float(time.get("Value"))))
     return refs
 
