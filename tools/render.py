@@ -275,7 +275,7 @@ class Scene:
 
     def save(self, time, png, size):
         self.view.ViewTime = time
-        self.text.Text = "t = %.4f s" % time
+        self.text.Text = "t = %.6g s" % time
         self.simple.SaveScreenshot(png, self.view, ImageResolution=list(size))
 
 
@@ -311,6 +311,10 @@ def render(a):
         if a.mp4:
             written.append(animate(scene, label, out, a))
     state = os.path.join(out, "view.pvsm")
+    scene.view.ViewTime = times[-1]
+    animation = scene.simple.GetAnimationScene()
+    animation.UpdateAnimationUsingDataTimeSteps()  # the state steps through the snapshots
+    animation.AnimationTime = times[-1]
     scene.simple.SaveState(state)
     written.append(state)
     for w in written:
