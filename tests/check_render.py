@@ -17,6 +17,7 @@ Exit 1 with one line per failure.
 import base64
 import glob
 import os
+import random
 import re
 import subprocess
 import sys
@@ -57,13 +58,23 @@ def not_blank(png_bytes_or_path, where):
 
 
 def xvfb_pvpython():
-    # -a picks a free display; start high so parallel tests rarely race for one.
-    return ["xvfb-run", "-a", "-n", str(100 + os.getpid() % 400), "pvpython"]
+    # -a picks a free display; a random start so that concurrent xvfb-runs
+    # (parallel tests, other users) rarely race for the same one.
+    return ["xvfb-run", "-a", "-n", str(random.randint(100, 2000)), "pvpython"]
+
+
+def run_x(args):
+    """pvpython under xvfb-run; again on a lost X connection (a display race, exit 134)."""
+    for attempt in range(3):
+        r = run(xvfb_pvpython() + args)
+        if r.returncode != 134 or "bad X server connection" not in r.stderr:
+            return r
+    return r
 
 
 def render(out):
     with tempfile.TemporaryDirectory(prefix="check_render_") as tmp:
-        r = run(xvfb_pvpython() + [os.path.join(ROOT, "tools", "render.py"), out, "-o", tmp,
+        r = run_x([os.path.join(ROOT, "tools", "render.py"), out, "-o", tmp,
                                    "--size", "640", "400", "--mp4", "--fps", "4"])
         if not check(r.returncode == 0, f"render.py exit {r.returncode}: {r.stderr[-2000:]}"):
             return

@@ -24,6 +24,7 @@ import glob
 import html
 import io as stdio
 import os
+import random
 import shutil
 import subprocess
 import sys
@@ -120,11 +121,17 @@ def paraview_frames(out, times):
     if not pvpython or not xvfb:
         return None
     with tempfile.TemporaryDirectory(prefix="report_") as tmp:
-        cmd = [xvfb, "-a", pvpython, os.path.join(HERE, "render.py"), out, "-o", tmp,
-               "--size", "900", "600"]
-        for t in times:
-            cmd += ["--time", repr(t)]
-        r = subprocess.run(cmd, capture_output=True, text=True)
+        for attempt in range(3):
+            # A random first display: xvfb-run -a alone starts at :99, where
+            # concurrent xvfb-runs race for the same server and one of them
+            # loses its X connection.
+            cmd = [xvfb, "-a", "-n", str(random.randint(100, 2000)), pvpython,
+                   os.path.join(HERE, "render.py"), out, "-o", tmp, "--size", "900", "600"]
+            for t in times:
+                cmd += ["--time", repr(t)]
+            r = subprocess.run(cmd, capture_output=True, text=True)
+            if r.returncode == 0:
+                break
         pngs = sorted(glob.glob(os.path.join(tmp, "*.png")),
                       key=lambda p: float(os.path.basename(p).split("_")[-1][:-6]))
         if r.returncode != 0 or not pngs:
