@@ -279,6 +279,32 @@ class Scene:
         self.simple.SaveScreenshot(png, self.view, ImageResolution=list(size))
 
 
+def hold_display(seconds=30.0):
+    """Open a connection to the X server of $DISPLAY and keep it to the end.
+    An X server resets when its last client disconnects and refuses
+    connections while it does; ParaView opens and closes displays on its way
+    to a render window and then aborts on such a refusal (`bad X server
+    connection`, now and then under xvfb-run). A connection held open keeps
+    the server from resetting."""
+    import ctypes
+    import ctypes.util
+    import time
+    name = ctypes.util.find_library("X11")
+    if not os.environ.get("DISPLAY") or not name:
+        return  # ParaView reports what is missing
+    x11 = ctypes.CDLL(name)
+    x11.XOpenDisplay.restype = ctypes.c_void_p
+    x11.XOpenDisplay.argtypes = [ctypes.c_char_p]
+    deadline = time.monotonic() + seconds
+    while True:
+        display = x11.XOpenDisplay(None)
+        if display:
+            return display  # never closed: the process's exit closes it
+        if time.monotonic() > deadline:
+            fail("cannot connect to the X display %s (run through xvfb-run -a)" % os.environ["DISPLAY"])
+        time.sleep(0.5)
+
+
 def render(a):
     xdmf = find_xdmf(a.path)
     directory = os.path.dirname(xdmf)
@@ -289,6 +315,7 @@ def render(a):
     # Checked before the render view exists: a wrong time needs no display.
     times = [nearest(all_times, t) for t in a.time] if a.time else sorted(
         {all_times[0], all_times[-1]})
+    held = hold_display()  # noqa: F841 (kept open until the end)
     scene = Scene(reader, xdmf, read_case(directory), a.size)
     available = scene.fields()
     wanted = ["speed"] if not a.field else a.field
