@@ -35,7 +35,8 @@ import accum  # noqa: E402
 
 MM = 1e-3
 ALL_TOOLS = ["plot_flow.py", "bond_stress.py", "fiber_orientation.py", "fiber_counts.py",
-             "velocity_profile.py", "plot_snapshot.py", "plate_timeline.py", "accum.py"]
+             "velocity_profile.py", "plot_snapshot.py", "plate_timeline.py", "accum.py",
+             "report.py", "render.py", "plot_scaling.py"]
 
 UNITS = {"position": "m", "velocity": "m/s", "density": "kg/m^3", "pressure": "Pa", "id": "1",
          "radius": "m", "fiber": "1", "angular_velocity": "rad/s", "nodes": "1",

@@ -79,7 +79,11 @@ def main():
         return predict(a)
     if not a.csv:
         ap.error("a scaling CSV (or --predict) is needed")
-    rows = sorted((int(r["ranks"]), float(r["seconds"])) for r in csv.DictReader(open(a.csv)))
+    try:
+        with open(a.csv) as f:
+            rows = sorted((int(r["ranks"]), float(r["seconds"])) for r in csv.DictReader(f))
+    except OSError as e:
+        sys.exit("plot_scaling.py: error: %s" % e)
     if not rows or rows[0][0] != 1:
         sys.exit("plot_scaling.py: the CSV needs a 1-rank row")
     t1 = rows[0][1]
