@@ -231,6 +231,9 @@ class Scene:
         if self.resin_display is None:
             return
         simple = self.simple
+        previous = getattr(self, "field", None)
+        if previous and previous != field:  # one resin colour bar at a time
+            simple.GetScalarBar(simple.GetColorTransferFunction(previous), self.view).Visibility = 0
         simple.ColorBy(self.resin_display, ("POINTS", field))
         lut = simple.GetColorTransferFunction(field)
         lut.ApplyPreset("Viridis (matplotlib)", True)
@@ -246,6 +249,8 @@ class Scene:
         bar.Position = [0.05, 0.02]
         bar.ScalarBarLength = 0.4
         bar.TitleColor = bar.LabelColor = [0, 0, 0]
+        bar.Visibility = 1
+        self.field = field
 
     def value_range(self, field, times):
         lo, hi = float("inf"), -float("inf")
