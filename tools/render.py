@@ -197,7 +197,7 @@ class Scene:
             bar.ComponentTitle = ""
             bar.WindowLocation = "Any Location"
             bar.Orientation = "Horizontal"
-            bar.Position = [0.55, 0.02]
+            bar.Position = [0.5, 0.02]
             bar.ScalarBarLength = 0.4
             bar.TitleColor = bar.LabelColor = [0, 0, 0]
         for i, p in enumerate(mold_outlines(case)):
