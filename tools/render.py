@@ -123,7 +123,6 @@ def block_names(reader):
 
 
 def point_arrays(source, time):
-    from paraview import servermanager
     source.UpdatePipeline(time)
     info = source.GetDataInformation().GetPointDataInformation()
     return [info.GetArrayInformation(i).GetName() for i in range(info.GetNumberOfArrays())]
