@@ -10,7 +10,9 @@ want=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-numpy python3-h5py python3-matplotlib python3-yaml
 )
-if [[ "${1:-}" != "--no-paraview" ]]; then want+=(python3-paraview paraview); fi
+# ParaView needs an X display: tools/render.py runs under xvfb-run (xvfb, xauth);
+# ffmpeg encodes its animations.
+if [[ "${1:-}" != "--no-paraview" ]]; then want+=(python3-paraview paraview xvfb xauth ffmpeg); fi
 missing=()
 for p in "${want[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -2,15 +2,20 @@
 """Fails when the documentation points at something that is not in the
 repository: a backticked repository path in docs/*.md or README.md that does
 not exist (so moving a file means updating the docs, docs/architecture.md
-"Where things live"), or a citation of a document outside the repository in
-the sources, tests, tools, inputs or docs (cite docs/*.md or the published
-paper instead).
+"Where things live"), a tool (`tools/x.py`, or a bare `x.py` in a command)
+or a case (`inputs/x.yaml`, or a bare `x.yaml`) named anywhere in a page,
+code blocks included, that is not in the repository, a backticked case key
+(`numerics.end_time`, `--set fibers.count=...`) that `sphdem keys` does not
+list (with --sphdem), an absolute path of a machine in a page, or a citation
+of a document outside the repository in the sources, tests, tools, inputs or
+docs (cite docs/*.md or the published paper instead).
 
-usage: check_doc_paths.py REPO_ROOT
+usage: check_doc_paths.py REPO_ROOT [--sphdem BUILD/sphdem]
 """
 import glob
 import os
 import re
+import subprocess
 import sys
 
 TOP_DIRS = ("src", "include", "tests", "docs", "tools", "bench", "inputs", "scripts",
@@ -48,6 +53,79 @@ def missing_paths(root, page):
     return bad
 
 
+TOOL = re.compile(r"(?<![\w./-])((?:tools/|tests/|bench/|scripts/)?[A-Za-z_][\w]*\.py)\b")
+CASE = re.compile(r"(?<![\w.-])((?:inputs/)?(?:[\w]+/)?[A-Za-z_][\w.]*\.yaml)\b")
+# Files a run writes or a user makes, not repository files.
+NOT_REPO_YAML = {"case.yaml"}
+# Absolute paths of a machine: a command in a page must run from the project root.
+MACHINE_PATH = re.compile(r"(?<![\w.~])/(?:home|root|tmp|scratch|mnt|work|Users)/")
+KEY = re.compile(r"^[a-z_]+(\[\d*\])?(\.[a-z_]+(\[\d*\])?)+$")
+
+
+def python_files(root):
+    return {os.path.basename(p) for d in ("tools", "tests", "bench", "scripts")
+            for p in glob.glob(os.path.join(root, d, "**", "*.py"), recursive=True)}
+
+
+def case_files(root):
+    return {os.path.relpath(p, os.path.join(root, "inputs"))
+            for p in glob.glob(os.path.join(root, "inputs", "**", "*.yaml"), recursive=True)}
+
+
+def named_tools_and_cases(root, page):
+    """Tools and cases a page names anywhere (prose and code blocks)."""
+    bad, tools, cases = [], python_files(root), case_files(root)
+    case_names = {os.path.basename(c) for c in cases}
+    with open(page, encoding="utf-8") as f:
+        lines = f.readlines()
+    # Files a command on the page writes (`... > channel.yaml`) and file names
+    # in quoted error messages (`fibers.yaml:8: ...`) are the user's, not ours.
+    written = set(re.findall(r">\s*([\w.-]+\.yaml)", "".join(lines)))
+    for lineno, line in enumerate(lines, 1):
+        if True:
+            where = f"{os.path.relpath(page, root)}:{lineno}"
+            for name in TOOL.findall(line):
+                if "/" in name:
+                    if not os.path.exists(os.path.join(root, name)):
+                        bad.append(f"{where}: tool `{name}` does not exist")
+                elif name not in tools and not name[:-3].isupper():  # TOOL.py: a placeholder
+                    bad.append(f"{where}: `{name}` is not a tool in tools/ (or a test script)")
+            for name in CASE.findall(line):
+                base = os.path.basename(name)
+                if (base in NOT_REPO_YAML or base in written or base[:-5].isupper()
+                        or name.split("/")[0].isupper() or re.search(re.escape(name) + r":\d", line)):
+                    continue
+                if name.startswith("inputs/"):
+                    if name[len("inputs/"):] not in cases:
+                        bad.append(f"{where}: case `{name}` does not exist")
+                elif name not in case_names and name not in cases:
+                    bad.append(f"{where}: case `{name}` is not in inputs/")
+            if MACHINE_PATH.search(line):
+                bad.append(f"{where}: an absolute path of one machine: {line.strip()}")
+    return bad
+
+
+def case_keys(sphdem):
+    """The key names `sphdem keys` lists ("mold.shapes[].box.min", ...)."""
+    out = subprocess.run([sphdem, "keys"], capture_output=True, text=True, check=True).stdout
+    return {line.split()[0] for line in out.splitlines()[1:] if line.strip()}
+
+
+def unknown_keys(root, page, keys):
+    bad = []
+    tops = {k.split(".")[0].split("[")[0] for k in keys}
+    with open(page, encoding="utf-8") as f:
+        for lineno, line in enumerate(f, 1):
+            for token in BACKTICKED.findall(line) + re.findall(r"`--set ([^`\s]+)`", line):
+                token = token.split("=")[0].rstrip(".,;:")
+                if not KEY.match(token) or token.split(".")[0].split("[")[0] not in tops:
+                    continue
+                if re.sub(r"\[\d*\]", "[]", token) not in keys:
+                    bad.append(f"{os.path.relpath(page, root)}:{lineno}: `{token}` is not a case "
+                               f"key (`sphdem keys`)")
+    return bad
+
+
 def outside_citations(root):
     bad = []
     for top in SCANNED + ("README.md", "CMakeLists.txt"):
@@ -66,12 +144,22 @@ def outside_citations(root):
 
 
 def main():
-    if len(sys.argv) != 2:
+    args = sys.argv[1:]
+    sphdem = None
+    if len(args) == 3 and args[1] == "--sphdem":
+        sphdem = args[2]
+        args = args[:1]
+    if len(args) != 1:
         print(__doc__)
         return 2
-    root = sys.argv[1]
+    root = args[0]
     pages = sorted(glob.glob(os.path.join(root, "docs", "*.md"))) + [os.path.join(root, "README.md")]
-    bad = [b for page in pages if os.path.exists(page) for b in missing_paths(root, page)]
+    pages = [p for p in pages if os.path.exists(p)]
+    bad = [b for page in pages for b in missing_paths(root, page)]
+    bad += [b for page in pages for b in named_tools_and_cases(root, page)]
+    if sphdem:
+        keys = case_keys(sphdem)
+        bad += [b for page in pages for b in unknown_keys(root, page, keys)]
     bad += outside_citations(root)
     for b in bad:
         print(b)

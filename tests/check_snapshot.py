@@ -123,26 +123,30 @@ def check_grid(c, where, grid, directory, count):
 
 
 def check_xdmf(c, directory, case, snapshots):
+    """One temporal collection per non-empty set, named after it, holding one
+    grid of the same name per snapshot in which the set has particles."""
     path = directory / f"{case}.xdmf"
     if not c.check(path.is_file(), f"{path}: missing"):
         return
     root = ET.parse(path).getroot()
     c.check(root.tag == "Xdmf" and root.get("Version") == "3.0", f"{path.name}: not XDMF 3.0")
-    temporal = root.find("Domain/Grid")
-    c.check(temporal is not None and temporal.get("CollectionType") == "Temporal",
-            f"{path.name}: no temporal collection")
-    if temporal is None:
-        return
-    steps = temporal.findall("Grid")
-    c.check(len(steps) == len(snapshots), f"{path.name}: {len(steps)} steps, {len(snapshots)} files")
-    for grid, (time, counts) in zip(steps, snapshots):
-        c.check(grid.get("CollectionType") == "Spatial", f"{path.name}: step not a spatial collection")
-        c.check(float(grid.find("Time").get("Value")) == time, f"{path.name}: time {time} missing")
-        listed = {g.get("Name"): g for g in grid.findall("Grid")}
-        c.check(set(listed) == {s for s, n in counts.items() if n > 0},
-                f"{path.name} at t={time}: grids {sorted(listed)}, sets {counts}")
-        for name, g in listed.items():
-            check_grid(c, f"{path.name} t={time} {name}", g, directory, counts.get(name, 0))
+    collections = {g.get("Name"): g for g in root.findall("Domain/Grid")
+                   if not g.get("Name", "").endswith("_lines")}
+    nonempty = {s for _, counts in snapshots for s, n in counts.items() if n > 0}
+    c.check(set(collections) == nonempty,
+            f"{path.name}: collections {sorted(collections)}, non-empty sets {sorted(nonempty)}")
+    for name, temporal in collections.items():
+        c.check(temporal.get("CollectionType") == "Temporal",
+                f"{path.name}: {name} is not a temporal collection")
+        grids = temporal.findall("Grid")
+        present = [(time, counts[name]) for time, counts in snapshots if counts.get(name, 0) > 0]
+        c.check(len(grids) == len(present),
+                f"{path.name}: {name} has {len(grids)} grids, {len(present)} snapshots hold it")
+        for grid, (time, count) in zip(grids, present):
+            c.check(grid.get("Name") == name, f"{path.name}: grid {grid.get('Name')} in {name}")
+            c.check(float(grid.find("Time").get("Value")) == time,
+                    f"{path.name}: {name} time {time} missing")
+            check_grid(c, f"{path.name} t={time} {name}", grid, directory, count)
 
 
 def parse_args():

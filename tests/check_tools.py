@@ -31,10 +31,12 @@ import velocity_profile  # noqa: E402
 import fiber_orientation  # noqa: E402
 import fiber_counts  # noqa: E402
 import bond_stress  # noqa: E402
+import accum  # noqa: E402
 
 MM = 1e-3
 ALL_TOOLS = ["plot_flow.py", "bond_stress.py", "fiber_orientation.py", "fiber_counts.py",
-             "velocity_profile.py", "plot_snapshot.py", "plate_timeline.py"]
+             "velocity_profile.py", "plot_snapshot.py", "plate_timeline.py", "accum.py",
+             "report.py", "render.py", "plot_scaling.py"]
 
 UNITS = {"position": "m", "velocity": "m/s", "density": "kg/m^3", "pressure": "Pa", "id": "1",
          "radius": "m", "fiber": "1", "angular_velocity": "rad/s", "nodes": "1",
@@ -504,10 +506,80 @@ class ToolTest(unittest.TestCase):
         self.assert_ok(r)
         self.assert_png(self.out("tl.png"))
 
+    # --- lengths with units, regions.py, accum.py --------------------------
+
+    def test_lengths_take_units(self):
+        L = sphdem_io.parse_length
+        self.assertEqual([L("5mm"), L("0.005"), L("0.5cm"), L("0.005m"), L("-3 mm")],
+                         [0.005, 0.005, 0.005, 0.005, -0.003])
+        self.assertEqual(L("4", unit=MM), 0.004)
+        self.assertEqual(L("-inf"), -math.inf)
+        a = sphdem_io.parse_regions(["arm:-16mm,-8mm,-4mm,0"], unit=1.0)[0].boxes
+        b = sphdem_io.parse_regions(["arm:-0.016,-0.008,-0.004,0"], unit=1.0)[0].boxes
+        c = sphdem_io.parse_regions(["arm:-16,-8,-4,0"])[0].boxes  # the older tools: bare mm
+        self.assertEqual(a, b)
+        self.assertEqual(a, c)
+        with self.assertRaises(sphdem_io.ToolError):
+            sphdem_io.parse_regions(["arm:-16mm,-8 furlongs,-4mm,0"], unit=1.0)
+
+    def test_regions(self):
+        table = self.out("regions.csv")
+        # The blob x in [-21, -19] mm, y in [10, 14] mm moves at (5, 5) m/s;
+        # a bare number is in metres, so the two spellings of a box agree.
+        r = run_tool("regions.py", self.flow, "--time", 0.02, "--spacing", "0.3mm", "--csv", table,
+                     "blob:-21mm,-19mm,10mm,14mm", "same:-0.021,-0.019,0.01,0.014",
+                     "left:-inf,-3mm,-4mm,0", "left:-inf,-3mm,30mm,40mm")
+        self.assert_ok(r)
+        rows = {d["region"]: d for d in read_csv(table)}
+        n_blob = len(lattice(-21 * MM, -19 * MM, 10 * MM, 14 * MM))
+        for name in ("blob", "same"):
+            self.assertAlmostEqual(float(rows[name]["resin_area_mm2"]), n_blob * 0.09, places=5)
+            self.assertAlmostEqual(float(rows[name]["speed_mean"]), 5 * math.sqrt(2), places=6)
+            self.assertAlmostEqual(float(rows[name]["u_mean"]), 5.0, places=6)
+        self.assertEqual(int(rows["left"]["fibers"]), 0)  # a resin-only run
+        r = run_tool("regions.py", self.fib, "--spacing", "0.3mm", "left:-inf,-3mm,-inf,0")
+        self.assert_ok(r)
+        self.assertRegex(r.stdout, r"left .* 12\n")  # fiber_counts' 12 left fibers
+        r = run_tool("regions.py", self.fib, "left:-inf,-3mm,-inf,0")  # no spacing anywhere
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("--spacing", r.stderr)
+        r = run_tool("regions.py", self.fib, "--spacing", "0.3mm", "left:-inf,-3,-inf")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("bad region", r.stderr)
+
+    def test_accum_touching(self):
+        f = make_fibers([(0.0, 0.0, 0.0), (0.0, 0.2 * MM, 0.0), (5 * MM, 0.0, 0.0)])
+        fibers = sphdem_io.Fibers(f["position"], f["fiber"], f["radius"], f["nodes"],
+                                  np.zeros(len(f["nodes"])), np.zeros(len(f["nodes"])),
+                                  np.zeros(len(f["nodes"]), bool), f["bond_fiber"])
+        self.assertEqual(accum.touching_fibers(fibers, 1.1), {0, 1})
+        self.assertEqual(accum.touching_fibers(fibers, 0.5), set())
+
+    def test_accum(self):
+        table = self.out("accum.csv")
+        r = run_tool("accum.py", self.fib, "--time", 0.2, "--cell", "4mm", "--arms", "0.004,40mm",
+                     "--csv", table)
+        self.assert_ok(r)
+        d = read_csv(table)[0]
+        in_plate = sum(1 for (_, y, _) in self.specs if y < 0)
+        in_arms = sum(1 for (x, y, _) in self.specs if y < 0 and 4 * MM <= abs(x) <= 40 * MM)
+        self.assertEqual((int(d["fibers"]), int(d["in_plate"])), (len(self.specs), in_plate))
+        self.assertEqual(float(d["resin_share"]), 1.0)  # all the resin is in the plate
+        self.assertAlmostEqual(float(d["ratio"]), in_plate / len(self.specs), places=9)
+        self.assertEqual(int(d["touching"]), 0)  # the fibers lie 3 mm apart
+        self.assertAlmostEqual(float(d["cell_mean"]), in_arms / 18, places=6)
+        self.assertIn("in plate %d" % in_plate, r.stdout)
+        r = run_tool("accum.py", self.flow)
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("fibers", r.stderr)
+        r = run_tool("accum.py", self.fib, "--cell", "4 parsecs")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("bad length", r.stderr)
+
     # --- every tool: --help and errors ---------------------------------------
 
     def test_help(self):
-        for tool in ALL_TOOLS:
+        for tool in ALL_TOOLS + ["regions.py"]:
             r = run_tool(tool, "--help")
             self.assert_ok(r)
             self.assertIn("usage:", r.stdout)

@@ -7,8 +7,9 @@ add_test(NAME case_file_doc_current
                  $<TARGET_FILE:sphdem> ${PROJECT_SOURCE_DIR}/docs/case-file.md)
 set_tests_properties(case_file_doc_current PROPERTIES LABELS "unit;docs" TIMEOUT 60)
 
-# Every backticked repository path in docs/*.md and README.md exists, and no
+# Every repository path, tool, case and case key the docs name exists, and no
 # file cites a document outside the repository.
 add_test(NAME doc_paths_exist
-         COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_doc_paths.py ${PROJECT_SOURCE_DIR})
+         COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_doc_paths.py ${PROJECT_SOURCE_DIR}
+                 --sphdem $<TARGET_FILE:sphdem>)
 set_tests_properties(doc_paths_exist PROPERTIES LABELS "unit;docs" TIMEOUT 60)

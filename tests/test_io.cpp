@@ -251,6 +251,24 @@ TEST(SnapshotWriter, TwoSetsTwoSnapshotsInIdOrder) {
   EXPECT_NE(xdmf.find(time_text(0.1)), std::string::npos);
   EXPECT_NE(xdmf.find(time_text(0.2)), std::string::npos);
   EXPECT_NE(xdmf.find("iotest_00000020.h5:/wall/position"), std::string::npos);
+  // One temporal collection per set, fluid before wall, each with a grid of
+  // its own name per snapshot: the names ParaView gives the blocks
+  // (docs/tools.md, "ParaView"; tests/check_paraview_sets.py).
+  const std::string fluid_collection =
+      "<Grid Name=\"fluid\" GridType=\"Collection\" CollectionType=\"Temporal\">";
+  const std::string wall_collection =
+      "<Grid Name=\"wall\" GridType=\"Collection\" CollectionType=\"Temporal\">";
+  ASSERT_NE(xdmf.find(fluid_collection), std::string::npos);
+  ASSERT_NE(xdmf.find(wall_collection), std::string::npos);
+  EXPECT_LT(xdmf.find(fluid_collection), xdmf.find(wall_collection));
+  const auto count = [&](const std::string& s) {
+    std::size_t n = 0;
+    for (auto at = xdmf.find(s); at != std::string::npos; at = xdmf.find(s, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("<Grid Name=\"fluid\" GridType=\"Uniform\">"), 2u);
+  EXPECT_EQ(count("<Grid Name=\"wall\" GridType=\"Uniform\">"), 2u);
+  EXPECT_EQ(count("CollectionType=\"Spatial\""), 0u);
 }
 
 TEST(SnapshotWriter, RewritingAStepReplacesItsEntry) {

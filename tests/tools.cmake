@@ -5,5 +5,5 @@
 # (tests/CMakeLists.txt includes every tests/*.cmake, this file too.)
 add_test(NAME tools_analysis
          COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_tools.py)
-set_tests_properties(tools_analysis PROPERTIES LABELS "tools" TIMEOUT 180
+set_tests_properties(tools_analysis PROPERTIES LABELS "tools" TIMEOUT 400
                                                ENVIRONMENT "MPLBACKEND=Agg")

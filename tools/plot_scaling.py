@@ -168,12 +168,16 @@ def main():
         return predict(a)
     if not a.csv:
         ap.error("a scaling CSV (or --predict) is needed")
-    study = list(csv.DictReader(open(a.csv)))
+    try:
+        with open(a.csv) as f:
+            study = list(csv.DictReader(f))
+    except OSError as e:
+        sys.exit("plot_scaling.py: error: %s" % e)
     if not study:
         sys.exit("plot_scaling.py: %s has no rows" % a.csv)
     if "mode" in study[0]:
         return plot_study(a, study)
-    rows = sorted((int(r["ranks"]), float(r["seconds"])) for r in csv.DictReader(open(a.csv)))
+    rows = sorted((int(r["ranks"]), float(r["seconds"])) for r in study)
     if not rows or rows[0][0] != 1:
         sys.exit("plot_scaling.py: the CSV needs a 1-rank row")
     t1 = rows[0][1]

@@ -75,7 +75,8 @@ def _from_xdmf(xdmf):
     except (ET.ParseError, OSError) as e:
         raise ToolError("cannot read the XDMF index %s: %s" % (xdmf, e))
     directory = os.path.dirname(os.path.abspath(xdmf))
-    refs = []
+    refs, seen = [], set()
+    # Each set is its own temporal collection, so a snapshot is listed once per set.
     for grid in root.iter("Grid"):
         time = grid.find("Time")
         if time is None:
@@ -84,6 +85,9 @@ def _from_xdmf(xdmf):
         if item is None or item.text is None:
             continue
         name = item.text.strip().partition(":")[0]
+        if name in seen:
+            continue
+        seen.add(name)
         refs.append(SnapshotRef(os.path.join(directory, name), float(time.get("Value"))))
     return refs
 
@@ -325,18 +329,34 @@ class Region:
         return " + ".join("x[%s,%s] y[%s,%s]" % tuple(f(v) for v in b) for b in self.boxes)
 
 
-def parse_regions(specs):
-    """Regions from 'NAME:XMIN,XMAX,YMIN,YMAX' strings in mm (inf allowed);
-    the same NAME repeated adds boxes to one region. Order kept."""
+LENGTH_UNITS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6}
+
+
+def parse_length(text, unit=1.0):
+    """A length [m] from '5mm', '0.5cm', '0.005m', 'inf' or a bare number
+    (in `unit` metres: 1.0 for SI, MM for the older tools' millimetres)."""
+    t = str(text).strip().lower()
+    for suffix in sorted(LENGTH_UNITS, key=len, reverse=True):
+        if t.endswith(suffix) and t[:-len(suffix)].strip():
+            return float(t[:-len(suffix)]) * LENGTH_UNITS[suffix]
+    return float(t) * unit
+
+
+def parse_regions(specs, unit=MM):
+    """Regions from 'NAME:XMIN,XMAX,YMIN,YMAX' strings (inf allowed; each
+    value with a unit, '5mm', or bare in `unit`: mm by default); the same
+    NAME repeated adds boxes to one region. Order kept."""
     regions = {}
+    bare = "mm" if unit == MM else "m"
     for spec in specs:
         name, sep, rest = spec.partition(":")
         try:
-            values = [float(v) * MM for v in rest.split(",")]
+            values = [parse_length(v, unit) for v in rest.split(",")]
         except ValueError:
             values = []
         if not sep or not name or len(values) != 4 or values[0] > values[1] or values[2] > values[3]:
-            raise ToolError("bad region '%s': want NAME:XMIN,XMAX,YMIN,YMAX in mm with MIN <= MAX" % spec)
+            raise ToolError("bad region '%s': want NAME:XMIN,XMAX,YMIN,YMAX (numbers in %s or with "
+                            "a unit, 5mm) with MIN <= MAX" % (spec, bare))
         regions.setdefault(name, Region(name)).boxes.append(tuple(values))
     return list(regions.values())
 

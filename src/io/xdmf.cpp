@@ -1,9 +1,14 @@
-// The XDMF index: a temporal collection of spatial collections, one Uniform
-// Polyvertex grid per particle set, every array a reference into the
-// snapshot's HDF5 file (relative name, so the directory can be moved).
-// Written by rank 0 only.
+// The XDMF index: one temporal collection per particle set ("fluid", "wall",
+// "dem") and per set's line cells ("dem_lines"), each holding one Uniform grid
+// of the same name per snapshot, every array a reference into the snapshot's
+// HDF5 file (relative name, so the directory can be moved). A set is its own
+// top-level collection so that XDMFReader names its block the same at every
+// time step (an ExtractBlock of "dem" follows the fibers through an animation)
+// and Xdmf3ReaderS keeps it at the same piece index (docs/tools.md,
+// "ParaView"). Written by rank 0 only.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -41,6 +46,11 @@ std::string escape(std::string_view s) {
     }
   }
   return out;
+}
+
+// 17 significant digits round-trip a double, so times match the HDF5 attribute.
+std::string time_element(double time) {
+  return fmt::format("          <Time Value=\"{:.17g}\"/>\n", time);
 }
 
 // `ref` is "<file>:/<set>/<dataset>"; cols is 1 or 3.
@@ -92,11 +102,12 @@ std::string point_data(const std::string& prefix, const Set& set) {
 }
 
 template <class Set>
-std::string lines_grid(const std::string& file, const Set& set) {
+std::string lines_grid(const std::string& file, double time, const Set& set) {
   const std::string prefix = file + ":/" + set.name + "/";
   const std::string lines = prefix + "lines/";
   std::string out =
       fmt::format("        <Grid Name=\"{}_lines\" GridType=\"Uniform\">\n", escape(set.name));
+  out += time_element(time);
   out += fmt::format(
       "          <Topology TopologyType=\"Polyline\" NumberOfElements=\"{}\" "
       "NodesPerElement=\"2\">\n",
@@ -109,10 +120,11 @@ std::string lines_grid(const std::string& file, const Set& set) {
 }
 
 template <class Set>  // SnapshotWriter::SetEntry, a private type
-std::string uniform_grid(const std::string& file, const Set& set) {
+std::string uniform_grid(const std::string& file, double time, const Set& set) {
   const std::string prefix = file + ":/" + set.name + "/";
   std::string out =
       fmt::format("        <Grid Name=\"{}\" GridType=\"Uniform\">\n", escape(set.name));
+  out += time_element(time);
   out += topology(prefix, set.count, set.id_min);
   out += point_data(prefix, set);
   return out + "        </Grid>\n";
@@ -121,27 +133,38 @@ std::string uniform_grid(const std::string& file, const Set& set) {
 }  // namespace
 
 std::string SnapshotWriter::xdmf_text(const std::string& title, const std::vector<Entry>& entries) {
-  std::string out =
+  // Sets in order of first appearance (fluid, wall, dem as the run lists them).
+  std::vector<std::string> names;
+  for (const auto& e : entries)
+    for (const auto& s : e.sets)
+      if (std::find(names.begin(), names.end(), s.name) == names.end()) names.push_back(s.name);
+
+  std::string out = fmt::format(
       "<?xml version=\"1.0\" ?>\n"
       "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
       "<Xdmf Version=\"3.0\" xmlns:xi=\"http://www.w3.org/2001/XInclude\">\n"
-      "  <Domain>\n";
-  out += fmt::format("    <Grid Name=\"{}\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
-                     escape(title));
-  for (const auto& e : entries) {
-    out += fmt::format(
-        "      <Grid Name=\"step_{:08d}\" GridType=\"Collection\" CollectionType=\"Spatial\">\n",
-        e.step);
-    // 17 significant digits round-trip a double, so times match the HDF5 attribute.
-    out += fmt::format("        <Time Value=\"{:.17g}\"/>\n", e.time);
-    // Empty grids upset ParaView's readers; the set reappears when it has particles.
-    for (const auto& s : e.sets) {
-      if (s.count > 0) out += uniform_grid(e.file, s);
-      if (s.count > 0 && s.line_count > 0) out += lines_grid(e.file, s);
+      "  <Domain Name=\"{}\">\n",
+      escape(title));
+  // One collection per set (lines = false) and per set's line cells (lines = true).
+  for (const bool lines : {false, true}) {
+    for (const auto& name : names) {
+      std::string grids;
+      for (const auto& e : entries) {
+        for (const auto& s : e.sets) {
+          // Empty grids upset ParaView's readers; the set is left out of the
+          // snapshots where it has no particles (or no line cells).
+          if (s.name != name || s.count == 0 || (lines && s.line_count == 0)) continue;
+          grids += lines ? lines_grid(e.file, e.time, s) : uniform_grid(e.file, e.time, s);
+        }
+      }
+      if (grids.empty()) continue;
+      out += fmt::format(
+          "    <Grid Name=\"{}{}\" GridType=\"Collection\" CollectionType=\"Temporal\">\n",
+          escape(name), lines ? "_lines" : "");
+      out += grids + "    </Grid>\n";
     }
-    out += "      </Grid>\n";
   }
-  return out + "    </Grid>\n  </Domain>\n</Xdmf>\n";
+  return out + "  </Domain>\n</Xdmf>\n";
 }
 
 void SnapshotWriter::write_xdmf(const std::vector<Entry>& entries) const {

@@ -15,10 +15,12 @@
 //   /<set>/lines/nodes     int64 [M][2]  the ends' rows in the set (id - id_min)
 //   /<set>/lines/<field>   double [M] or [M][3]
 // Rows are ordered by global id within each set, whatever the rank count.
-// <dir>/<case>.xdmf lists every snapshot this writer wrote (Temporal
-// collection of Spatial ones, one Polyvertex grid per set with N > 0, and a
-// Polyline grid "<set>_lines" over the same points for a set with M > 0
-// lines) and opens in ParaView with XDMFReader or Xdmf3ReaderS.
+// <dir>/<case>.xdmf lists every snapshot this writer wrote: one Temporal
+// collection per set, named after it, with a Polyvertex grid of the same name
+// for each snapshot where the set has N > 0 particles, then one collection
+// "<set>_lines" of Polyline grids over the same points for a set with M > 0
+// lines. It opens in ParaView with XDMFReader (blocks named fluid, wall, dem,
+// dem_lines at every step) or Xdmf3ReaderS (docs/tools.md, "ParaView").
 #include <cstddef>
 #include <cstdint>
 #include <string>
