@@ -17,7 +17,7 @@ run (end_time 1000 s), so that a hang shows up as a timeout:
                collective read: refused (exit 2) on every rank, printed once;
                the checkpoint then restarts without the fault
   full_disk    a full disk: as root where a tmpfs can be mounted, the real
-               thing (a 2 MiB tmpfs filling up); otherwise every write of
+               thing (a 1 MiB tmpfs filling up); otherwise every write of
                rank 1 failing with ENOSPC from step 12 on (SPHDEM_INJECT_FAULT
                enospc). Exit 1 within seconds, the last complete checkpoint
                restarts
@@ -186,11 +186,11 @@ elif scenario == "full_disk":
     disk = os.path.join(work, "disk")
     os.makedirs(disk)
     mounted = os.geteuid() == 0 and subprocess.call(
-        ["mount", "-t", "tmpfs", "-o", "size=2M", "tmpfs", disk],
+        ["mount", "-t", "tmpfs", "-o", "size=1M", "tmpfs", disk],
         stderr=subprocess.DEVNULL) == 0
     try:
         if mounted:
-            print("a real full disk: a 2 MiB tmpfs", flush=True)
+            print("a real full disk: a 1 MiB tmpfs", flush=True)
             args = ["run", POISEUILLE, "-o", "disk/out", *ENDLESS, "--set",
                     "output.every_steps=5", "--checkpoint-every", "5"]
             code, out, err, _ = run(args)
