@@ -70,8 +70,10 @@ CheckpointWriter::CheckpointWriter(const Comm& comm, std::string path)
 
 CheckpointWriter::~CheckpointWriter() {
   if (!impl_ || impl_->committed) return;
+  // Only after an error every rank threw (a one-rank error aborts the job
+  // before anything unwinds, docs/architecture.md "Errors").
   impl_->dxpl.reset();
-  impl_->file.reset();
+  io::close_failed_file(impl_->comm, impl_->tmp, impl_->file);
   if (impl_->comm.root()) {
     std::error_code ec;
     fs::remove(impl_->tmp, ec);

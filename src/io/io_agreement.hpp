@@ -17,6 +17,9 @@
 #include <type_traits>
 #include <utility>
 
+#include <unistd.h>
+
+#include "hdf5_helpers.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/parallel/agreement.hpp"
 #include "sphdem/parallel/comm.hpp"
@@ -76,5 +79,19 @@ class Agreement {
   const Comm& comm_;
   std::string what_;
 };
+
+// Closes a file whose collective write failed (every rank calls it, after
+// the agreement). Its content is lost anyway, so rank 0 first empties it:
+// on a full disk the close's metadata flush then finds room. Otherwise the
+// flush fails on some ranks only, and HDF5's ranks part ways inside
+// H5Fclose (one waiting in a metadata sync point, another in the file's
+// truncation), for good.
+inline void close_failed_file(const Comm& comm, const std::string& path,
+                              std::optional<h5::Handle>& file) {
+  if (!file) return;
+  if (comm.root()) (void)::truncate(path.c_str(), 0);
+  comm.barrier();
+  file.reset();
+}
 
 }  // namespace sphdem::io

@@ -150,9 +150,9 @@ void SnapshotWriter::resume(std::int64_t step) {
   }
   if (comm_.any(!error.empty()))  // every rank throws: an agreed failure (errors.hpp)
     throw CollectiveIoError(error.empty()
-                                 ? "sphdem: rank 0 could not resume the snapshot series in '" +
-                                       directory_ + "'"
-                                 : "sphdem: cannot resume the snapshot series: " + error);
+                                ? "sphdem: rank 0 could not resume the snapshot series in '" +
+                                      directory_ + "'"
+                                : "sphdem: cannot resume the snapshot series: " + error);
   entries_ = std::move(entries);
 }
 

@@ -395,28 +395,34 @@ SnapshotWriter::Entry SnapshotWriter::write_hdf5(const std::string& path,
     file.emplace(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
                  "create file", path);
   });
-  agree([&] {
-    dxpl.emplace(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "create transfer list", path);
-    check(H5Pset_dxpl_mpio(dxpl->get(), H5FD_MPIO_COLLECTIVE), "select collective I/O", path);
-    write_root_attributes(file->get(), step, time, sets.front().dimension, case_name_, case_yaml_,
-                          path);
-  });
-  const Writing w{agree, dxpl->get(), path, comm_.rank(), step};
-
-  Entry entry{step, time, {}, {}};
-  for (std::size_t s = 0; s < sets.size(); ++s) {
-    write_set(file->get(), w, sets[s], plans[s], sets[s].has_lines ? &line_plans[s] : nullptr);
-    SetEntry& e = entry.sets.emplace_back(
-        SetEntry{sets[s].name, plans[s].n_global, plans[s].id_min, {}, 0, {}});
-    for (const auto& f : sets[s].fields) e.fields.emplace_back(f.name, file_columns(f.components));
-    if (!sets[s].has_lines) continue;
-    e.line_count = line_plans[s].rows.n_global;
-    for (const auto& f : sets[s].lines.fields)
-      e.line_fields.emplace_back(f.name, file_columns(f.components));
+  try {
+    agree([&] {
+      dxpl.emplace(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "create transfer list", path);
+      check(H5Pset_dxpl_mpio(dxpl->get(), H5FD_MPIO_COLLECTIVE), "select collective I/O", path);
+      write_root_attributes(file->get(), step, time, sets.front().dimension, case_name_, case_yaml_,
+                            path);
+    });
+    const Writing w{agree, dxpl->get(), path, comm_.rank(), step};
+    Entry entry{step, time, {}, {}};
+    for (std::size_t s = 0; s < sets.size(); ++s) {
+      write_set(file->get(), w, sets[s], plans[s], sets[s].has_lines ? &line_plans[s] : nullptr);
+      SetEntry& e = entry.sets.emplace_back(
+          SetEntry{sets[s].name, plans[s].n_global, plans[s].id_min, {}, 0, {}});
+      for (const auto& f : sets[s].fields)
+        e.fields.emplace_back(f.name, file_columns(f.components));
+      if (!sets[s].has_lines) continue;
+      e.line_count = line_plans[s].rows.n_global;
+      for (const auto& f : sets[s].lines.fields)
+        e.line_fields.emplace_back(f.name, file_columns(f.components));
+    }
+    dxpl.reset();
+    agree([&] { file->close("close file", path); });
+    return entry;
+  } catch (const CollectiveIoError&) {
+    dxpl.reset();
+    io::close_failed_file(comm_, path, file);
+    throw;
   }
-  dxpl.reset();
-  agree([&] { file->close("close file", path); });
-  return entry;
 }
 
 std::string SnapshotWriter::write(std::int64_t step, double time,
