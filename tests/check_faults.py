@@ -17,7 +17,7 @@ run (end_time 1000 s), so that a hang shows up as a timeout:
                collective read: refused (exit 2) on every rank, printed once;
                the checkpoint then restarts without the fault
   full_disk    a full disk: as root where a tmpfs can be mounted, the real
-               thing (a 1 MiB tmpfs filling up); otherwise every write of
+               thing (a 1 MiB tmpfs filling up with checkpoints); otherwise every write of
                rank 1 failing with ENOSPC from step 12 on (SPHDEM_INJECT_FAULT
                enospc). Exit 1 within seconds, the last complete checkpoint
                restarts
@@ -191,9 +191,12 @@ elif scenario == "full_disk":
     try:
         if mounted:
             print("a real full disk: a 1 MiB tmpfs", flush=True)
+            # Checkpoints pile up (keep 1000) until one does not fit.
             args = ["run", POISEUILLE, "-o", "disk/out", *ENDLESS, "--set",
-                    "output.every_steps=5", "--checkpoint-every", "5"]
+                    "output.every_steps=1000", "--set", "checkpoint.keep=1000",
+                    "--checkpoint-every", "5"]
             code, out, err, _ = run(args)
+            expect("checkpoint '" in err, "the failing write named: a checkpoint")
         else:
             print("not root or no tmpfs: every write of rank 1 fails with ENOSPC from step 12",
                   flush=True)
