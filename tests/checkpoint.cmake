@@ -9,7 +9,7 @@ sphdem_test(test_checkpoint SOURCES test_checkpoint.cpp RANKS 1 2 3 LABELS "unit
 # between the data write and the rename, and refused checkpoints (truncated,
 # corrupt, another case, another format, an output directory in use), and the
 # fibers-only runs in 2D (dem) and 3D (dem3d) restarted on other rank counts.
-foreach(_scenario sigterm sigusr1 sigkill abort_in_write refused dem dem3d)
+foreach(_scenario sigterm sigusr1 sigterm_mpiexec sigkill abort_in_write refused dem dem3d)
   add_test(NAME checkpoint_${_scenario}
            COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_checkpoint.py ${_scenario}
                    $<TARGET_FILE:sphdem> ${PROJECT_SOURCE_DIR}

@@ -3,7 +3,8 @@
 # (SPHDEM_INJECT_FAULT) abort it at once with the class's exit status; a
 # collective failure exits cleanly with its status and the last state.
 # The timeout is far below a hang's: each scenario takes a few seconds.
-foreach(_scenario simulation runtime hdf5 input dem blowup bad_input one_rank)
+foreach(_scenario simulation runtime snapshot_write checkpoint_write restart_read full_disk
+                  no_progress input dem blowup bad_input one_rank)
   add_test(NAME faults_${_scenario}
            COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_faults.py ${_scenario}
                    $<TARGET_FILE:sphdem> ${PROJECT_SOURCE_DIR}

@@ -10,8 +10,10 @@
 
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
+#include "sphdem/io/checkpoint.hpp"
 #include "sphdem/parallel/comm.hpp"
 #include "sphdem/solver/dem_run.hpp"
+#include "sphdem/solver/output_cadence.hpp"
 #include "sphdem/solver/solver.hpp"
 
 namespace sphdem {
@@ -140,6 +142,41 @@ TEST(RunDriver, HealthCheckOfEveryModule) {
     else
       EXPECT_NE(what.find("on rank 0"), std::string::npos) << what;
   }
+}
+
+// Issue 15, defect 4: an interval below the resolution of the time made the
+// catch-up loops spin for ever (the app refuses such an interval, these
+// loops end all the same).
+TEST(OutputCadence, AnIntervalBelowTheTimesResolutionEnds) {
+  Output out;
+  out.every_time = 1e-300;
+  OutputCadence cadence(out, 0.0);
+  EXPECT_TRUE(cadence.due(1, 1e-3));
+  EXPECT_TRUE(cadence.due(2, 2e-3));  // once per step, at most
+  OutputCadence resumed = resumed_output_cadence(out, 1e-3);
+  EXPECT_TRUE(resumed.due(3, 3e-3));
+}
+
+TEST(OutputCadence, ACatchUpWritesOnce) {
+  Output out;
+  out.every_time = 1e-3;
+  OutputCadence cadence(out, 0.0);
+  EXPECT_FALSE(cadence.due(1, 0.5e-3));
+  EXPECT_TRUE(cadence.due(2, 3.5e-3));  // jumps over three multiples
+  EXPECT_FALSE(cadence.due(3, 3.9e-3));
+  EXPECT_TRUE(cadence.due(4, 4.0e-3));
+}
+
+// Where a key was set, for errors found after loading (config.hpp).
+TEST(KeyLocation, FileLineOrSet) {
+  const Case c = input("validation/poiseuille.yaml", {"numerics.end_time=1"});
+  const KeyLocation spacing = key_location(c, "numerics.spacing");
+  EXPECT_EQ(spacing.file, c.source_file);
+  EXPECT_GT(spacing.line, 1);
+  EXPECT_EQ(key_location(c, "numerics.end_time").file, "--set");
+  EXPECT_EQ(key_location(c, "output.no_such_key").line, 0);
+  // The lookup leaves the case's text as it was.
+  EXPECT_EQ(key_location(c, "numerics.spacing").line, spacing.line);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "output_dir.hpp"
+#include "output_interval.hpp"
 #include "partition_command.hpp"
 #include "scaling_command.hpp"
 #include "signals.hpp"
@@ -37,8 +38,9 @@ struct RunArgs {
 
 // After a stop request (SIGTERM, SIGUSR1) the run wrote a checkpoint: say
 // how to continue. Exit status 0, so a job chain goes on.
-void report_stop(const RunSummary& s, const Comm& comm, bool quiet) {
-  if (!s.stopped || !comm.root() || quiet) return;
+// Printed even with -q: job scripts look for this line.
+void report_stop(const RunSummary& s, const Comm& comm) {
+  if (!s.stopped || !comm.root()) return;
   std::cout << fmt::format(
       "stopped by signal {} at t = {:.6g} s: checkpoint {}; continue with --restart latest\n",
       app::stop_signal(), s.time, s.last_checkpoint);
@@ -103,6 +105,7 @@ int check_dem_case(const Case& c, const Comm& comm) {
   RunOptions opt;
   opt.write_output = false;
   const DemRun<D> run(c, comm, opt);
+  check_output_interval(c, run.dt());
   if (!comm.root()) return 0;
   const double n = static_cast<double>(run.dem().global_count());
   const double steps = std::ceil(c.numerics.end_time / run.dt());
@@ -146,12 +149,24 @@ void print_run_banner(const Run<D>& run, const Case& c, const Comm& comm) {
 template <int D>
 int run_case(const Case& c, const RunArgs& a, const Comm& comm) {
   const RunOptions opt = run_options(c, a);
+  // Bad input leaves the output directory as it was: the interval is
+  // checked first (a fibers-only run knows its step once its fibers are
+  // placed, which writes nothing).
+  const bool resin = !c.fill.empty();
+  if (resin) check_output_interval(c, estimated_resin_dt(c));
+  std::optional<Run<D>> fibers_only;
+  if (!resin) {
+    fibers_only.emplace(c, comm, opt);
+    check_output_interval(c, fibers_only->fibers()->dem_dt());
+  }
   prepare_output_dir(comm, opt.output_dir, !a.restart.empty(), a.overwrite);
-  Run<D> run(c, comm, opt);
+  std::optional<Run<D>> with_resin;
+  if (resin) with_resin.emplace(c, comm, opt);
+  Run<D>& run = resin ? *with_resin : *fibers_only;
   if (!a.restart.empty()) run.restart_from(a.restart);
   if (comm.root() && !a.quiet) print_run_banner(run, c, comm);
   const RunSummary s = run.run();
-  report_stop(s, comm, a.quiet);
+  report_stop(s, comm);
   if (comm.root() && !a.quiet) {
     std::cout << fmt::format(
         "done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s), {} snapshots in "
@@ -166,6 +181,7 @@ int check_case(const Case& c, const Comm& comm) {
   RunOptions opt;
   opt.write_output = false;
   Simulation<D> sim(c, comm, opt);
+  check_output_interval(c, estimated_resin_dt(c));
   if (!comm.root()) return 0;
   const SphParams sp = make_sph_params(c);
   // A run's speed is bounded by Mach 0.1 (c0 >= 10 |v|max): estimate with it.

@@ -38,6 +38,9 @@ int main(int argc, char** argv) {
   } catch (const sphdem::CollectiveSimulationError& e) {
     if (rank == 0) std::cerr << "sphdem: simulation failed: " << e.what() << "\n";
     status = sphdem::kExitSimulation;
+  } catch (const sphdem::CollectiveIoError& e) {
+    if (rank == 0) std::cerr << "sphdem: output failed: " << e.what() << "\n";
+    status = sphdem::kExitOther;
   }
   MPI_Finalize();
   return status;

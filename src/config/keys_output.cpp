@@ -47,7 +47,8 @@ Section<Output> make_output() {
       string("directory", &Output::directory, "where snapshots, case.yaml and checkpoints go")
           .defaults_to("`out/<name>`"),
       optional_number("every_time", "s", positive_number(), &Output::every_time,
-                      "simulated time between snapshots")
+                      "simulated time between snapshots; at least the time step (a shorter one, "
+                      "more than one snapshot per step, is refused)")
           .defaults_to("end_time / 100 if every_steps is absent too"),
       optional_integer("every_steps", "", 1, &Output::every_steps, "steps between snapshots"),
       fields(),

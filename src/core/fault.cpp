@@ -22,7 +22,8 @@ std::optional<InjectedFault> parse(const std::string& spec) {
     return InputError(kVariable, 0, "",
                       "'" + spec +
                           "': expected RANK:STEP:KIND with KIND one of input, "
-                          "simulation, runtime, hdf5");
+                          "simulation, runtime, snapshot_write (hdf5), checkpoint_write, "
+                          "restart_read, enospc");
   };
   const std::size_t a = spec.find(':');
   const std::size_t b = a == std::string::npos ? a : spec.find(':', a + 1);
@@ -44,8 +45,14 @@ std::optional<InjectedFault> parse(const std::string& spec) {
     f.kind = FaultKind::Simulation;
   else if (kind == "runtime")
     f.kind = FaultKind::Runtime;
-  else if (kind == "hdf5")
-    f.kind = FaultKind::Hdf5;
+  else if (kind == "hdf5" || kind == "snapshot_write")
+    f.kind = FaultKind::SnapshotWrite;
+  else if (kind == "checkpoint_write")
+    f.kind = FaultKind::CheckpointWrite;
+  else if (kind == "restart_read")
+    f.kind = FaultKind::RestartRead;
+  else if (kind == "enospc")
+    f.kind = FaultKind::Enospc;
   else
     throw bad();
   return f;
@@ -70,12 +77,25 @@ std::optional<InjectedFault> injected_fault() {
 
 bool fault_due(FaultKind kind, int rank, std::int64_t step) {
   const std::optional<InjectedFault> f = injected_fault();
-  return f && f->kind == kind && f->rank == rank && (kind == FaultKind::Input || f->step == step);
+  if (!f || f->kind != kind || f->rank != rank) return false;
+  if (kind == FaultKind::Input || kind == FaultKind::RestartRead) return true;
+  return kind == FaultKind::Enospc ? step >= f->step : step == f->step;
 }
 
 void inject_load_fault(int rank, const char* case_file) {
   if (fault_due(FaultKind::Input, rank, 0))
     throw InputError(case_file, 0, "", fmt::format("fault injected ({})", kVariable));
+}
+
+void inject_io_fault(FaultKind kind, int rank, std::int64_t step, const std::string& path) {
+  const bool write = kind != FaultKind::RestartRead;
+  if (write && fault_due(FaultKind::Enospc, rank, step))
+    throw std::runtime_error(fmt::format(
+        "sphdem: HDF5 write dataset failed for '{}': No space left on device (injected, {})", path,
+        kVariable));
+  if (fault_due(kind, rank, step))
+    throw std::runtime_error(fmt::format("sphdem: HDF5 {} dataset failed for '{}' (injected, {})",
+                                         write ? "write" : "read", path, kVariable));
 }
 
 void inject_step_fault(int rank, std::int64_t step) {

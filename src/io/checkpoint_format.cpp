@@ -5,8 +5,10 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <csignal>
 #include <cstdlib>
+#include <cstring>
 
 namespace sphdem::checkpoint_io {
 
@@ -104,11 +106,19 @@ void maybe_abort_for_test() {
   if (k && std::atoi(k) == commits) std::raise(SIGKILL);
 }
 
-void fsync_path(const std::string& path) {
+void fsync_path(const std::string& path, bool required) {
   const int fd = ::open(path.c_str(), O_RDONLY);
-  if (fd < 0) return;  // best effort: the rename is what makes it atomic
-  ::fsync(fd);
+  if (fd < 0) {
+    if (!required) return;  // a directory: best effort, the rename is what makes it atomic
+    throw std::runtime_error(fmt::format("cannot open '{}': {}", path, std::strerror(errno)));
+  }
+  // A full disk may show only here (delayed allocation): then the data is
+  // not on disk, and the file must not replace a good checkpoint.
+  const int rc = ::fsync(fd);
+  const int err = errno;
   ::close(fd);
+  if (rc != 0 && required && err != EINVAL)
+    throw std::runtime_error(fmt::format("fsync of '{}' failed: {}", path, std::strerror(err)));
 }
 
 }  // namespace sphdem::checkpoint_io

@@ -12,6 +12,7 @@
 #include <type_traits>
 
 #include "hdf5_helpers.hpp"
+#include "io_agreement.hpp"
 #include "sphdem/io/checkpoint.hpp"
 
 namespace sphdem::checkpoint_io {
@@ -74,32 +75,12 @@ T read_scalar_attribute(hid_t obj, const char* name, hid_t mem, const std::strin
 std::string read_string_attribute(hid_t obj, const char* name, const std::string& path);
 
 // Runs `f` on every rank; if it throws on any rank, every rank throws an
-// InputError naming the file (the failing ranks' own message, or a note).
+// InputError naming the file and the first failing rank's cause
+// (io_agreement.hpp). `f` must not communicate: a rank that failed in it
+// would skip what the others wait for.
 template <class F>
 auto collective(const Comm& comm, const std::string& path, F&& f) -> decltype(f()) {
-  std::string error;
-  using R = decltype(f());
-  if constexpr (std::is_void_v<R>) {
-    try {
-      f();
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-    if (comm.any(!error.empty()))
-      throw InputError(path, 0, "",
-                       error.empty() ? "the checkpoint failed on another rank" : error);
-  } else {
-    R out{};
-    try {
-      out = f();
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-    if (comm.any(!error.empty()))
-      throw InputError(path, 0, "",
-                       error.empty() ? "the checkpoint failed on another rank" : error);
-    return out;
-  }
+  return io::Agreement<InputError>(comm, path)(std::forward<F>(f));
 }
 
 // The test hook of docs/checkpoint.md: SPHDEM_TEST_ABORT_IN_CHECKPOINT=K
@@ -107,7 +88,8 @@ auto collective(const Comm& comm, const std::string& path, F&& f) -> decltype(f(
 // the rename, as a node failure would.
 void maybe_abort_for_test();
 
-// fsync of a file or directory, best effort.
-void fsync_path(const std::string& path);
+// fsync of a file or directory; throws std::runtime_error when `required`
+// and it fails (otherwise best effort).
+void fsync_path(const std::string& path, bool required = false);
 
 }  // namespace sphdem::checkpoint_io

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "checkpoint_format.hpp"
+#include "sphdem/core/fault.hpp"
 
 namespace sphdem {
 
@@ -125,33 +126,40 @@ std::vector<CheckpointColumn> CheckpointReader::particles(const std::string& gro
   const std::int64_t n = slice_first(n_global, p, me + 1) - first;
   std::vector<CheckpointColumn> cols;
   std::vector<std::uint64_t> stored;
-  collective(m.comm, m.path, [&] {
-    const std::string& path = m.path;
-    Handle g(H5Gopen2(m.file->get(), group.c_str(), H5P_DEFAULT), H5Gclose, "open group", path);
-    std::vector<std::string> names;
-    check(H5Literate(g.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_name, &names),
+  // One agreement per HDF5 step (io_agreement.hpp): H5Dread is collective,
+  // so a rank that failed before it must not leave the others waiting there.
+  const std::string& path = m.path;
+  std::optional<Handle> g, dxpl;
+  std::vector<std::string> names;
+  collective(m.comm, path, [&] {
+    g.emplace(H5Gopen2(m.file->get(), group.c_str(), H5P_DEFAULT), H5Gclose, "open group", path);
+    check(H5Literate(g->get(), H5_INDEX_NAME, H5_ITER_INC, nullptr, collect_name, &names),
           "list datasets", path);
-    Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "create transfer list", path);
-    check(H5Pset_dxpl_mpio(dxpl.get(), H5FD_MPIO_COLLECTIVE), "select collective I/O", path);
-    for (const std::string& name : names) {
-      Handle dset(H5Dopen2(g.get(), name.c_str(), H5P_DEFAULT), H5Dclose, "open dataset", path);
-      CheckpointColumn c;
-      c.name = name;
-      const int type = read_scalar_attribute<int>(dset.get(), "type", H5T_NATIVE_INT, path);
+    dxpl.emplace(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "create transfer list", path);
+    check(H5Pset_dxpl_mpio(dxpl->get(), H5FD_MPIO_COLLECTIVE), "select collective I/O", path);
+  });
+  for (const std::string& name : names) {
+    std::optional<Handle> dset, fspace, mspace;
+    CheckpointColumn c;
+    c.name = name;
+    collective(m.comm, path, [&] {
+      dset.emplace(H5Dopen2(g->get(), name.c_str(), H5P_DEFAULT), H5Dclose, "open dataset", path);
+      const hid_t ds = dset->get();
+      const int type = read_scalar_attribute<int>(ds, "type", H5T_NATIVE_INT, path);
       if (type < 0 || type > static_cast<int>(ColumnType::Bytes))
         throw std::runtime_error("field '" + name + "' has an unknown type");
       c.type = static_cast<ColumnType>(type);
-      c.components = read_scalar_attribute<int>(dset.get(), "components", H5T_NATIVE_INT, path);
+      c.components = read_scalar_attribute<int>(ds, "components", H5T_NATIVE_INT, path);
       c.row_bytes = static_cast<std::size_t>(
-          read_scalar_attribute<std::int64_t>(dset.get(), "row_bytes", H5T_NATIVE_INT64, path));
+          read_scalar_attribute<std::int64_t>(ds, "row_bytes", H5T_NATIVE_INT64, path));
       stored.push_back(
-          read_scalar_attribute<std::uint64_t>(dset.get(), "checksum", H5T_NATIVE_UINT64, path));
+          read_scalar_attribute<std::uint64_t>(ds, "checksum", H5T_NATIVE_UINT64, path));
       const hsize_t cols_in_file = dataset_columns(c);
-      Handle fspace(H5Dget_space(dset.get()), H5Sclose, "get dataset space", path);
+      fspace.emplace(H5Dget_space(ds), H5Sclose, "get dataset space", path);
       hsize_t dims[2] = {0, 1};
-      const int rank = H5Sget_simple_extent_ndims(fspace.get());
+      const int rank = H5Sget_simple_extent_ndims(fspace->get());
       if (rank < 1 || rank > 2) throw std::runtime_error("field '" + name + "' has a bad shape");
-      H5Sget_simple_extent_dims(fspace.get(), dims, nullptr);
+      H5Sget_simple_extent_dims(fspace->get(), dims, nullptr);
       if (dims[0] != static_cast<hsize_t>(n_global) || (rank == 2 ? dims[1] : 1) != cols_in_file ||
           (c.type != ColumnType::Bytes && value_bytes(c.type) * cols_in_file != c.row_bytes))
         throw std::runtime_error("field '" + name + "' does not match its description");
@@ -159,20 +167,24 @@ std::vector<CheckpointColumn> CheckpointReader::particles(const std::string& gro
       const hsize_t start[2] = {static_cast<hsize_t>(first), 0};
       const hsize_t count[2] = {static_cast<hsize_t>(n), cols_in_file};
       if (n > 0)
-        check(H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start, nullptr, count, nullptr),
+        check(H5Sselect_hyperslab(fspace->get(), H5S_SELECT_SET, start, nullptr, count, nullptr),
               "select rows", path);
       else
-        check(H5Sselect_none(fspace.get()), "select no rows", path);
-      Handle mspace(H5Screate_simple(rank, count, nullptr), H5Sclose, "create memory space", path);
-      if (n == 0) check(H5Sselect_none(mspace.get()), "select nothing", path);
+        check(H5Sselect_none(fspace->get()), "select no rows", path);
+      mspace.emplace(H5Screate_simple(rank, count, nullptr), H5Sclose, "create memory space", path);
+      if (n == 0) check(H5Sselect_none(mspace->get()), "select nothing", path);
+    });
+    collective(m.comm, path, [&] {
       char none = 0;
       if (n_global > 0)
-        check(H5Dread(dset.get(), types_of(c.type).mem, mspace.get(), fspace.get(), dxpl.get(),
+        check(H5Dread(dset->get(), types_of(c.type).mem, mspace->get(), fspace->get(), dxpl->get(),
                       c.data.empty() ? &none : c.data.data()),
               "read dataset", path);
-      cols.push_back(std::move(c));
-    }
-  });
+      // Testing hook (fault.hpp): the read failed on this rank alone.
+      inject_io_fault(FaultKind::RestartRead, m.comm.rank(), 0, path);
+    });
+    cols.push_back(std::move(c));
+  }
   for (std::size_t k = 0; k < cols.size(); ++k) {
     // Every rank holds every row with all_rows: each checks the whole sum.
     if (checksum(all_rows ? Comm(MPI_COMM_SELF) : m.comm, cols[k], first) != stored[k])

@@ -9,12 +9,17 @@
 // (row index, row bytes): ranks add their slices in any order and agree,
 // and a single changed byte anywhere in the data changes it. HDF5's own
 // metadata checksums (latest file format) guard the rest of the file.
+// Every call that can fail runs inside `agree` (io_agreement.hpp): a write
+// that fails on one rank (a full disk) throws CollectiveIoError on every rank
+// at the same point, and the temporary file is removed.
 #include <algorithm>
 #include <climits>
 #include <filesystem>
 #include <stdexcept>
 
 #include "checkpoint_format.hpp"
+#include "io_agreement.hpp"
+#include "sphdem/core/fault.hpp"
 
 namespace sphdem {
 
@@ -29,6 +34,7 @@ struct CheckpointWriter::Impl {
   Comm comm;
   std::string path, tmp;
   QuietHdf5 quiet;
+  std::optional<io::Agreement<>> agree;
   std::optional<Handle> file;
   std::optional<Handle> dxpl;
   bool committed = false;
@@ -41,28 +47,33 @@ CheckpointWriter::CheckpointWriter(const Comm& comm, std::string path)
   m.path = std::move(path);
   const fs::path p(m.path);
   m.tmp = (p.parent_path() / ("." + p.filename().string() + ".tmp")).string();
-  std::string error;
-  if (comm.root()) {
+  m.agree.emplace(m.comm, "checkpoint '" + m.path + "'");
+  (*m.agree)([&] {
+    if (!comm.root()) return;
     std::error_code ec;
     fs::create_directories(p.parent_path(), ec);
-    if (ec) error = "cannot create '" + p.parent_path().string() + "': " + ec.message();
-  }
-  if (comm.any(!error.empty()))
-    throw std::runtime_error("sphdem: checkpoint " + m.path + ": " +
-                             (error.empty() ? "rank 0 could not create the directory" : error));
-  Handle fapl = file_access(comm, m.tmp);
-  m.file.emplace(H5Fcreate(m.tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
-                 "create file", m.tmp);
-  m.dxpl.emplace(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "create transfer list", m.tmp);
-  check(H5Pset_dxpl_mpio(m.dxpl->get(), H5FD_MPIO_COLLECTIVE), "select collective I/O", m.tmp);
-  h5::write_attribute(m.file->get(), "format", std::int64_t{kCheckpointFormat}, m.tmp);
-  h5::write_attribute(m.file->get(), "sphdem_version", std::string(SPHDEM_VERSION), m.tmp);
+    if (ec)
+      throw std::runtime_error("cannot create '" + p.parent_path().string() + "': " + ec.message());
+  });
+  (*m.agree)([&] {
+    Handle fapl = file_access(comm, m.tmp);
+    m.file.emplace(H5Fcreate(m.tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
+                   "create file", m.tmp);
+  });
+  (*m.agree)([&] {
+    m.dxpl.emplace(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "create transfer list", m.tmp);
+    check(H5Pset_dxpl_mpio(m.dxpl->get(), H5FD_MPIO_COLLECTIVE), "select collective I/O", m.tmp);
+    h5::write_attribute(m.file->get(), "format", std::int64_t{kCheckpointFormat}, m.tmp);
+    h5::write_attribute(m.file->get(), "sphdem_version", std::string(SPHDEM_VERSION), m.tmp);
+  });
 }
 
 CheckpointWriter::~CheckpointWriter() {
   if (!impl_ || impl_->committed) return;
+  // Only after an error every rank threw (a one-rank error aborts the job
+  // before anything unwinds, docs/architecture.md "Errors").
   impl_->dxpl.reset();
-  impl_->file.reset();
+  io::close_failed_file(impl_->comm, impl_->tmp, impl_->file);
   if (impl_->comm.root()) {
     std::error_code ec;
     fs::remove(impl_->tmp, ec);
@@ -70,23 +81,29 @@ CheckpointWriter::~CheckpointWriter() {
 }
 
 void CheckpointWriter::attribute(const std::string& name, double v) {
-  h5::write_attribute(impl_->file->get(), name.c_str(), v, impl_->tmp);
+  Impl& m = *impl_;
+  (*m.agree)([&] { h5::write_attribute(m.file->get(), name.c_str(), v, m.tmp); });
 }
 void CheckpointWriter::attribute(const std::string& name, std::int64_t v) {
-  h5::write_attribute(impl_->file->get(), name.c_str(), v, impl_->tmp);
+  Impl& m = *impl_;
+  (*m.agree)([&] { h5::write_attribute(m.file->get(), name.c_str(), v, m.tmp); });
 }
 void CheckpointWriter::attribute(const std::string& name, const std::string& v) {
-  h5::write_attribute(impl_->file->get(), name.c_str(), v, impl_->tmp);
+  Impl& m = *impl_;
+  (*m.agree)([&] { h5::write_attribute(m.file->get(), name.c_str(), v, m.tmp); });
 }
 void CheckpointWriter::attribute(const std::string& name, const std::vector<double>& v) {
-  const std::string& path = impl_->tmp;
-  const hsize_t n = v.size();
-  Handle space(n == 0 ? H5Screate(H5S_NULL) : H5Screate_simple(1, &n, nullptr), H5Sclose,
-               "create attribute space", path);
-  Handle attr(H5Acreate2(impl_->file->get(), name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
-                         H5P_DEFAULT),
-              H5Aclose, "create attribute", path);
-  if (n > 0) check(H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, v.data()), "write attribute", path);
+  Impl& m = *impl_;
+  (*m.agree)([&] {
+    const std::string& path = m.tmp;
+    const hsize_t n = v.size();
+    Handle space(n == 0 ? H5Screate(H5S_NULL) : H5Screate_simple(1, &n, nullptr), H5Sclose,
+                 "create attribute space", path);
+    Handle attr(H5Acreate2(m.file->get(), name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
+                           H5P_DEFAULT),
+                H5Aclose, "create attribute", path);
+    if (n > 0) check(H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, v.data()), "write attribute", path);
+  });
 }
 
 namespace {
@@ -207,10 +224,14 @@ void CheckpointWriter::particles(const std::string& group,
     if (c.name != "gid") ordered.push_back(c);
   const Slices s = regroup(m.comm, ordered, group);
 
-  Handle g(H5Gcreate2(m.file->get(), group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-           H5Gclose, "create group", path);
-  h5::write_attribute(g.get(), "count", s.n_global, path);
-  h5::write_attribute(g.get(), "id_min", s.id_min, path);
+  const io::Agreement<>& agree = *m.agree;
+  std::optional<Handle> g;
+  agree([&] {
+    g.emplace(H5Gcreate2(m.file->get(), group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+              H5Gclose, "create group", path);
+    h5::write_attribute(g->get(), "count", s.n_global, path);
+    h5::write_attribute(g->get(), "id_min", s.id_min, path);
+  });
   for (const CheckpointColumn& c : s.columns) {
     const hsize_t cols = dataset_columns(c);
     const int rank = cols == 1 ? 1 : 2;
@@ -218,53 +239,59 @@ void CheckpointWriter::particles(const std::string& group,
     const FileTypes t = types_of(c.type);
     if (c.type != ColumnType::Bytes && value_bytes(c.type) * cols != c.row_bytes)
       throw std::invalid_argument("sphdem: checkpoint column '" + c.name + "': row size mismatch");
-    Handle fspace(H5Screate_simple(rank, dims, nullptr), H5Sclose, "create file space", path);
-    Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "create dataset properties", path);
-    check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), "set fill time", path);
-    Handle dset(H5Dcreate2(g.get(), c.name.c_str(), t.file, fspace.get(), H5P_DEFAULT, dcpl.get(),
-                           H5P_DEFAULT),
-                H5Dclose, "create dataset", path);
+    std::optional<Handle> fspace, dset, mspace;
     const hsize_t start[2] = {static_cast<hsize_t>(s.first), 0};
     const hsize_t count[2] = {static_cast<hsize_t>(s.n), cols};
-    if (s.n > 0)
-      check(H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start, nullptr, count, nullptr),
-            "select rows", path);
-    else
-      check(H5Sselect_none(fspace.get()), "select no rows", path);
-    Handle mspace(H5Screate_simple(rank, count, nullptr), H5Sclose, "create memory space", path);
-    if (s.n == 0) check(H5Sselect_none(mspace.get()), "select nothing", path);
+    agree([&] {
+      fspace.emplace(H5Screate_simple(rank, dims, nullptr), H5Sclose, "create file space", path);
+      Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "create dataset properties", path);
+      check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), "set fill time", path);
+      dset.emplace(H5Dcreate2(g->get(), c.name.c_str(), t.file, fspace->get(), H5P_DEFAULT,
+                              dcpl.get(), H5P_DEFAULT),
+                   H5Dclose, "create dataset", path);
+      if (s.n > 0)
+        check(H5Sselect_hyperslab(fspace->get(), H5S_SELECT_SET, start, nullptr, count, nullptr),
+              "select rows", path);
+      else
+        check(H5Sselect_none(fspace->get()), "select no rows", path);
+      mspace.emplace(H5Screate_simple(rank, count, nullptr), H5Sclose, "create memory space", path);
+      if (s.n == 0) check(H5Sselect_none(mspace->get()), "select nothing", path);
+    });
     const char none = 0;
-    if (s.n_global > 0)
-      check(H5Dwrite(dset.get(), t.mem, mspace.get(), fspace.get(), m.dxpl->get(),
-                     c.data.empty() ? &none : c.data.data()),
-            "write dataset", path);
-    h5::write_attribute(dset.get(), "type", static_cast<int>(c.type), path);
-    h5::write_attribute(dset.get(), "components", c.components, path);
-    h5::write_attribute(dset.get(), "row_bytes", static_cast<std::int64_t>(c.row_bytes), path);
-    write_u64_attribute(dset.get(), "checksum", checksum(m.comm, c, s.first), path);
+    agree([&] {
+      if (s.n_global > 0)
+        check(H5Dwrite(dset->get(), t.mem, mspace->get(), fspace->get(), m.dxpl->get(),
+                       c.data.empty() ? &none : c.data.data()),
+              "write dataset", path);
+      // Testing hook (fault.hpp): the write failed on this rank alone.
+      inject_io_fault(FaultKind::CheckpointWrite, m.comm.rank(), current_step(), path);
+    });
+    // A reduction: outside `agree`, which every rank leaves together.
+    const std::uint64_t sum = checksum(m.comm, c, s.first);
+    agree([&] {
+      h5::write_attribute(dset->get(), "type", static_cast<int>(c.type), path);
+      h5::write_attribute(dset->get(), "components", c.components, path);
+      h5::write_attribute(dset->get(), "row_bytes", static_cast<std::int64_t>(c.row_bytes), path);
+      write_u64_attribute(dset->get(), "checksum", sum, path);
+    });
   }
 }
 
 void CheckpointWriter::commit() {
   Impl& m = *impl_;
   m.dxpl.reset();
-  m.file->close("close file", m.tmp);
+  // H5Fclose is where buffered data and metadata reach the file system:
+  // its failure is a failed checkpoint too. The agreement is also the
+  // barrier: every rank's data is in the file after it.
+  (*m.agree)([&] { m.file->close("close file", m.tmp); });
   m.file.reset();
-  m.comm.barrier();  // every rank's data is in the file
   maybe_abort_for_test();
-  std::string error;
-  if (m.comm.root()) {
-    try {
-      fsync_path(m.tmp);
-      fs::rename(m.tmp, m.path);
-      fsync_path(fs::path(m.path).parent_path().string());
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-  }
-  if (m.comm.any(!error.empty()))
-    throw std::runtime_error("sphdem: could not publish checkpoint '" + m.path +
-                             "': " + (error.empty() ? "rank 0 failed" : error));
+  (*m.agree)([&] {
+    if (!m.comm.root()) return;
+    fsync_path(m.tmp, /*required=*/true);
+    fs::rename(m.tmp, m.path);
+    fsync_path(fs::path(m.path).parent_path().string());
+  });
   m.committed = true;
 }
 

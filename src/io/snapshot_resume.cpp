@@ -10,6 +10,7 @@
 #include <filesystem>
 
 #include "hdf5_helpers.hpp"
+#include "sphdem/core/errors.hpp"
 #include "sphdem/io/io.hpp"
 
 namespace sphdem {
@@ -147,11 +148,11 @@ void SnapshotWriter::resume(std::int64_t step) {
       error = e.what();
     }
   }
-  if (comm_.any(!error.empty()))
-    throw std::runtime_error(error.empty()
-                                 ? "sphdem: rank 0 could not resume the snapshot series in '" +
-                                       directory_ + "'"
-                                 : "sphdem: cannot resume the snapshot series: " + error);
+  if (comm_.any(!error.empty()))  // every rank throws: an agreed failure (errors.hpp)
+    throw CollectiveIoError(error.empty()
+                                ? "sphdem: rank 0 could not resume the snapshot series in '" +
+                                      directory_ + "'"
+                                : "sphdem: cannot resume the snapshot series: " + error);
   entries_ = std::move(entries);
 }
 

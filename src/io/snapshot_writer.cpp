@@ -7,10 +7,12 @@
 #include <filesystem>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
 #include "hdf5_helpers.hpp"
+#include "io_agreement.hpp"
 #include "sphdem/core/fault.hpp"
 #include "sphdem/io/io.hpp"
 
@@ -185,10 +187,20 @@ Handle file_selection(const RowPlan& plan, hsize_t cols, const std::string& path
   return space;
 }
 
+// How the ranks write one snapshot: every call that can fail runs inside
+// `agree` (io_agreement.hpp); rank and step are for the test hook (fault.hpp).
+struct Writing {
+  const io::Agreement<>& agree;
+  hid_t dxpl;
+  const std::string& path;
+  int rank;
+  std::int64_t step;
+};
+
 // Where a set's datasets go, with the row selections shared by its columns.
 struct Target {
   hid_t group;
-  hid_t dxpl;
+  const Writing& w;
   hid_t rows_scalar;  // file selection for [N]
   hid_t rows_vector;  // file selection for [N][3]
   const std::string& path;
@@ -220,17 +232,25 @@ Handle create_dataset(const Target& t, const Column& c, hsize_t n_global) {
 template <class T>
 void write_column(const Target& t, const Column& c, const RowPlan& plan,
                   const std::vector<T>& packed) {
-  Handle dset = create_dataset(t, c, static_cast<hsize_t>(plan.n_global));
+  std::optional<Handle> dset;
+  std::optional<Handle> mspace;
+  t.w.agree([&] {
+    dset.emplace(create_dataset(t, c, static_cast<hsize_t>(plan.n_global)));
+    const hsize_t mdims[2] = {plan.order.size(), static_cast<hsize_t>(c.cols)};
+    mspace.emplace(H5Screate_simple(c.cols == 1 ? 1 : 2, mdims, nullptr), H5Sclose,
+                   "create memory space", t.path);
+    if (plan.order.empty()) check(H5Sselect_none(mspace->get()), "select nothing", t.path);
+  });
   if (plan.n_global == 0) return;  // every rank agrees: nothing to transfer
   const hid_t fspace = c.cols == 1 ? t.rows_scalar : (c.cols == 2 ? t.rows_pair : t.rows_vector);
-  const hsize_t mdims[2] = {plan.order.size(), static_cast<hsize_t>(c.cols)};
-  Handle mspace(H5Screate_simple(c.cols == 1 ? 1 : 2, mdims, nullptr), H5Sclose,
-                "create memory space", t.path);
-  if (plan.order.empty()) check(H5Sselect_none(mspace.get()), "select nothing", t.path);
   const T none{};  // HDF5 wants a buffer even when this rank writes nothing
   const T* buf = packed.empty() ? &none : packed.data();
-  check(H5Dwrite(dset.get(), c.mem_type, mspace.get(), fspace, t.dxpl, buf), "write dataset",
-        t.path);
+  t.w.agree([&] {
+    check(H5Dwrite(dset->get(), c.mem_type, mspace->get(), fspace, t.w.dxpl, buf), "write dataset",
+          t.path);
+    // Testing hook (fault.hpp): the write failed on this rank alone.
+    inject_io_fault(FaultKind::SnapshotWrite, t.w.rank, t.w.step, t.path);
+  });
 }
 
 int file_columns(int components) {
@@ -238,15 +258,19 @@ int file_columns(int components) {
 }
 
 // The line cells of a set: ids, node rows (id - the set's id_min), fields.
-void write_lines(hid_t set_group, hid_t dxpl, const ParticleSetView& set, const RowPlan& plan,
-                 const std::vector<std::int64_t>& node_rows, const std::string& path) {
-  Handle group(H5Gcreate2(set_group, "lines", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
-               "create group", path);
-  h5::write_attribute(group.get(), "count", plan.n_global, path);
-  const Handle rows_scalar = file_selection(plan, 1, path);
-  const Handle rows_pair = file_selection(plan, 2, path);
-  const Handle rows_vector = file_selection(plan, 3, path);
-  const Target t{group.get(), dxpl, rows_scalar.get(), rows_vector.get(), path, rows_pair.get()};
+void write_lines(hid_t set_group, const Writing& w, const ParticleSetView& set, const RowPlan& plan,
+                 const std::vector<std::int64_t>& node_rows) {
+  const std::string& path = w.path;
+  std::optional<Handle> group, rows_scalar, rows_pair, rows_vector;
+  w.agree([&] {
+    group.emplace(H5Gcreate2(set_group, "lines", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+                  "create group", path);
+    h5::write_attribute(group->get(), "count", plan.n_global, path);
+    rows_scalar.emplace(file_selection(plan, 1, path));
+    rows_pair.emplace(file_selection(plan, 2, path));
+    rows_vector.emplace(file_selection(plan, 3, path));
+  });
+  const Target t{group->get(), w, rows_scalar->get(), rows_vector->get(), path, rows_pair->get()};
   write_column(t, {"id", "1", 1, H5T_STD_I64LE, H5T_NATIVE_INT64}, plan,
                pack(plan, set.lines.id, 1, 1));
   write_column(t, {"nodes", "1", 2, H5T_STD_I64LE, H5T_NATIVE_INT64}, plan,
@@ -287,14 +311,18 @@ struct LinePlan {
   std::vector<std::int64_t> nodes;  // 2 per local cell, rows of the set
 };
 
-void write_set(hid_t file, hid_t dxpl, const ParticleSetView& set, const RowPlan& plan,
-               const LinePlan* lines, const std::string& path) {
-  Handle group(H5Gcreate2(file, set.name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
-               "create group", path);
-  h5::write_attribute(group.get(), "count", plan.n_global, path);
-  const Handle rows_scalar = file_selection(plan, 1, path);
-  const Handle rows_vector = file_selection(plan, 3, path);
-  const Target t{group.get(), dxpl, rows_scalar.get(), rows_vector.get(), path};
+void write_set(hid_t file, const Writing& w, const ParticleSetView& set, const RowPlan& plan,
+               const LinePlan* lines) {
+  const std::string& path = w.path;
+  std::optional<Handle> group, rows_scalar, rows_vector;
+  w.agree([&] {
+    group.emplace(H5Gcreate2(file, set.name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+                  H5Gclose, "create group", path);
+    h5::write_attribute(group->get(), "count", plan.n_global, path);
+    rows_scalar.emplace(file_selection(plan, 1, path));
+    rows_vector.emplace(file_selection(plan, 3, path));
+  });
+  const Target t{group->get(), w, rows_scalar->get(), rows_vector->get(), path};
   write_column(t, {"id", "1", 1, H5T_STD_I64LE, H5T_NATIVE_INT64}, plan, pack(plan, set.id, 1, 1));
   write_column(t, {"position", "m", 3, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE}, plan,
                pack(plan, set.position, set.dimension, 3));
@@ -303,7 +331,7 @@ void write_set(hid_t file, hid_t dxpl, const ParticleSetView& set, const RowPlan
     write_column(t, {f.name.c_str(), f.units.c_str(), cols, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE},
                  plan, pack(plan, f.data, f.components, cols));
   }
-  if (lines) write_lines(group.get(), dxpl, set, lines->rows, lines->nodes, path);
+  if (lines) write_lines(group->get(), w, set, lines->rows, lines->nodes);
 }
 
 void write_root_attributes(hid_t file, std::int64_t step, double time, int dimension,
@@ -335,13 +363,15 @@ SnapshotWriter::SnapshotWriter(const Comm& comm, std::string directory, std::str
       xdmf_path_((fs::path(directory_) / (case_name_ + ".xdmf")).string()) {
   if (bad_name(case_name_))
     throw std::invalid_argument("sphdem: invalid case name '" + case_name_ + "'");
-  std::string error;
-  if (comm_.root()) error = make_directory(directory_);
-  throw_if_any<std::runtime_error>(
-      comm_, error, "sphdem: rank 0 cannot create output directory '" + directory_ + "'");
+  io::Agreement<>(comm_, "output directory '" + directory_ + "'")([&] {
+    if (!comm_.root()) return;
+    if (const std::string error = make_directory(directory_); !error.empty())
+      throw std::runtime_error(error);
+  });
 }
 
-SnapshotWriter::Entry SnapshotWriter::write_hdf5(const std::string& path, std::int64_t step,
+SnapshotWriter::Entry SnapshotWriter::write_hdf5(const std::string& path,
+                                                 const std::string& final_path, std::int64_t step,
                                                  double time,
                                                  const std::vector<ParticleSetView>& sets) const {
   // Validate everything before the file exists, so bad input leaves no trace.
@@ -355,36 +385,44 @@ SnapshotWriter::Entry SnapshotWriter::write_hdf5(const std::string& path, std::i
     line_plans[s].nodes = node_rows(comm_, sets[s], plans[s]);
   }
 
-  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "create file access list", path);
-  check(H5Pset_fapl_mpio(fapl.get(), comm_.raw(), MPI_INFO_NULL), "select MPI-IO driver", path);
-  Handle file(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
-              "create file", path);
-  Handle dxpl(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "create transfer list", path);
-  check(H5Pset_dxpl_mpio(dxpl.get(), H5FD_MPIO_COLLECTIVE), "select collective I/O", path);
-
-  write_root_attributes(file.get(), step, time, sets.front().dimension, case_name_, case_yaml_,
-                        path);
-  // Testing hook (fault.hpp): an HDF5 call fails on one rank while the
-  // others go on into the collective writes.
-  if (fault_due(FaultKind::Hdf5, comm_.rank(), step)) {
-    check(H5Dwrite(H5I_INVALID_HID, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, nullptr),
-          "write dataset (injected fault)", path);
+  // From here every rank makes the same HDF5 calls and agrees after each
+  // one that can fail (io_agreement.hpp).
+  const io::Agreement<> agree(comm_, "snapshot '" + final_path + "'");
+  std::optional<Handle> file, dxpl;
+  agree([&] {
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "create file access list", path);
+    check(H5Pset_fapl_mpio(fapl.get(), comm_.raw(), MPI_INFO_NULL), "select MPI-IO driver", path);
+    file.emplace(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.get()), H5Fclose,
+                 "create file", path);
+  });
+  try {
+    agree([&] {
+      dxpl.emplace(H5Pcreate(H5P_DATASET_XFER), H5Pclose, "create transfer list", path);
+      check(H5Pset_dxpl_mpio(dxpl->get(), H5FD_MPIO_COLLECTIVE), "select collective I/O", path);
+      write_root_attributes(file->get(), step, time, sets.front().dimension, case_name_, case_yaml_,
+                            path);
+    });
+    const Writing w{agree, dxpl->get(), path, comm_.rank(), step};
+    Entry entry{step, time, {}, {}};
+    for (std::size_t s = 0; s < sets.size(); ++s) {
+      write_set(file->get(), w, sets[s], plans[s], sets[s].has_lines ? &line_plans[s] : nullptr);
+      SetEntry& e = entry.sets.emplace_back(
+          SetEntry{sets[s].name, plans[s].n_global, plans[s].id_min, {}, 0, {}});
+      for (const auto& f : sets[s].fields)
+        e.fields.emplace_back(f.name, file_columns(f.components));
+      if (!sets[s].has_lines) continue;
+      e.line_count = line_plans[s].rows.n_global;
+      for (const auto& f : sets[s].lines.fields)
+        e.line_fields.emplace_back(f.name, file_columns(f.components));
+    }
+    dxpl.reset();
+    agree([&] { file->close("close file", path); });
+    return entry;
+  } catch (const CollectiveIoError&) {
+    dxpl.reset();
+    io::close_failed_file(comm_, path, file);
+    throw;
   }
-
-  Entry entry{step, time, {}, {}};
-  for (std::size_t s = 0; s < sets.size(); ++s) {
-    write_set(file.get(), dxpl.get(), sets[s], plans[s],
-              sets[s].has_lines ? &line_plans[s] : nullptr, path);
-    SetEntry& e = entry.sets.emplace_back(
-        SetEntry{sets[s].name, plans[s].n_global, plans[s].id_min, {}, 0, {}});
-    for (const auto& f : sets[s].fields) e.fields.emplace_back(f.name, file_columns(f.components));
-    if (!sets[s].has_lines) continue;
-    e.line_count = line_plans[s].rows.n_global;
-    for (const auto& f : sets[s].lines.fields)
-      e.line_fields.emplace_back(f.name, file_columns(f.components));
-  }
-  file.close("close file", path);
-  return entry;
 }
 
 std::string SnapshotWriter::write(std::int64_t step, double time,
@@ -392,7 +430,18 @@ std::string SnapshotWriter::write(std::int64_t step, double time,
   const std::string name = fmt::format("{}_{:08d}.h5", case_name_, step);
   const std::string final_path = (fs::path(directory_) / name).string();
   const std::string tmp_path = (fs::path(directory_) / ("." + name + ".tmp")).string();
-  Entry entry = write_hdf5(tmp_path, step, time, sets);
+  Entry entry;
+  try {
+    entry = write_hdf5(tmp_path, final_path, step, time, sets);
+  } catch (const CollectiveIoError&) {
+    // Every rank is here; the file is closed (the unwinding closed it on
+    // every rank alike). No partial snapshot stays behind.
+    if (comm_.root()) {
+      std::error_code ec;
+      fs::remove(tmp_path, ec);
+    }
+    throw;
+  }
   entry.file = name;
 
   // A rewrite of the same step replaces its entry rather than listing it twice.
@@ -404,19 +453,13 @@ std::string SnapshotWriter::write(std::int64_t step, double time,
   else
     entries.push_back(std::move(entry));
 
-  std::string error;
-  if (comm_.root()) {
-    try {
-      fs::rename(tmp_path, final_path);
-      write_xdmf(entries);
-    } catch (const std::exception& e) {
-      error = e.what();
-    }
-  }
   // The reduction is also the barrier: no rank returns before the HDF5 file
   // and the XDMF naming it are in place.
-  throw_if_any<std::runtime_error>(comm_, error,
-                                   "sphdem: rank 0 could not publish '" + final_path + "'");
+  io::Agreement<>(comm_, "snapshot '" + final_path + "'")([&] {
+    if (!comm_.root()) return;
+    fs::rename(tmp_path, final_path);
+    write_xdmf(entries);
+  });
   entries_ = std::move(entries);
   return final_path;
 }

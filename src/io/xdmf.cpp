@@ -9,6 +9,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -170,10 +172,17 @@ std::string SnapshotWriter::xdmf_text(const std::string& title, const std::vecto
 void SnapshotWriter::write_xdmf(const std::vector<Entry>& entries) const {
   const std::string tmp = (fs::path(directory_) / ("." + case_name_ + ".xdmf.tmp")).string();
   {
+    errno = 0;
     std::ofstream out(tmp, std::ios::trunc);
     out << xdmf_text(case_name_, entries);
     out.close();
-    if (!out) throw std::runtime_error("sphdem: cannot write '" + tmp + "'");
+    if (!out) {
+      // errno is the stream's last failing call's (a full disk: ENOSPC).
+      const std::string why = errno != 0 ? std::string(": ") + std::strerror(errno) : "";
+      std::error_code ec;
+      fs::remove(tmp, ec);  // no partial file stays behind
+      throw std::runtime_error("sphdem: cannot write '" + tmp + "'" + why);
+    }
   }
   fs::rename(tmp, xdmf_path_);
 }

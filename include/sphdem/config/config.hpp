@@ -29,6 +29,15 @@ Case load_case_from_string(const std::string& text, const std::string& name_for_
 // to <output>/case.yaml and into every snapshot and checkpoint.
 std::string effective_case_yaml(const Case& c);
 
+// Where `key` (dotted, "output.every_time") of a loaded case was set: its
+// case file and line, or "--set" (line 0) when an override set it or a
+// mapping above it; line 0 when the file does not say (a default).
+struct KeyLocation {
+  std::string file;
+  int line = 0;
+};
+KeyLocation key_location(const Case& c, const std::string& key);
+
 // --- the key schema (src/config/schema.hpp, docs/case-file.md) ---------------
 
 struct KeysDoc;

@@ -17,6 +17,10 @@
 //    class's status before the stack unwinds, since unwinding would run
 //    destructors that are collective (closing an HDF5 file) while the other
 //    ranks wait in another collective (src/app/fault_handler.cpp).
+//  - CollectiveIoError, exit 1: a snapshot, checkpoint or restart read failed
+//    on some rank. Collective: the I/O paths agree on failure after every
+//    HDF5 call that can fail (src/io/io_agreement.hpp), so every rank throws
+//    it at the same point, and the app prints it once and exits cleanly.
 #include <stdexcept>
 #include <string>
 
@@ -53,6 +57,13 @@ class SimulationError : public std::runtime_error {
 class CollectiveSimulationError : public SimulationError {
  public:
   using SimulationError::SimulationError;
+};
+
+// Thrown by every rank together when a collective write or read failed on
+// at least one rank; names the file, the first failing rank and its cause.
+class CollectiveIoError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 // The exit status an exception ends the run with (kExit*).

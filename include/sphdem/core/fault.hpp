@@ -4,6 +4,7 @@
 // callers pass their rank.
 #include <cstdint>
 #include <optional>
+#include <string>
 
 namespace sphdem {
 
@@ -14,11 +15,26 @@ std::int64_t current_step();
 
 // Testing hook: SPHDEM_INJECT_FAULT=RANK:STEP:KIND makes rank RANK fail
 // on its own, as a real one-rank failure would:
-//   input       loading the case file (STEP is ignored): an InputError
-//   simulation  after step STEP: a SimulationError (as a DEM list overflow)
-//   runtime     after step STEP: a std::runtime_error
-//   hdf5        writing the snapshot of step STEP: a failing HDF5 call
-enum class FaultKind { Input, Simulation, Runtime, Hdf5 };
+//   input             loading the case file (STEP is ignored): an InputError
+//   simulation        after step STEP: a SimulationError (as a DEM list overflow)
+//   runtime           after step STEP: a std::runtime_error
+//   snapshot_write    an HDF5 dataset write failing inside the collective write
+//                     of the snapshot of step STEP (`hdf5` is the same)
+//   checkpoint_write  the same inside the checkpoint written after step STEP
+//   restart_read      an HDF5 dataset read failing inside a restart's
+//                     collective read of a checkpoint (STEP is ignored)
+//   enospc            from step STEP on, every dataset write of a snapshot or
+//                     checkpoint fails with "No space left on device", as on
+//                     a full disk
+enum class FaultKind {
+  Input,
+  Simulation,
+  Runtime,
+  SnapshotWrite,
+  CheckpointWrite,
+  RestartRead,
+  Enospc
+};
 
 struct InjectedFault {
   int rank = 0;
@@ -31,11 +47,15 @@ struct InjectedFault {
 std::optional<InjectedFault> injected_fault();
 
 // True when the environment asks for a fault of `kind` on `rank` at `step`
-// (any step for FaultKind::Input).
+// (any step for Input and RestartRead, from STEP on for Enospc).
 bool fault_due(FaultKind kind, int rank, std::int64_t step);
 
 // Throws the injected fault of the case file's loading when due.
 void inject_load_fault(int rank, const char* case_file);
+// Throws the injected I/O fault of `kind` (SnapshotWrite, CheckpointWrite,
+// RestartRead) when due, or Enospc for the writes, as the std::runtime_error
+// a failing HDF5 call on `path` gives.
+void inject_io_fault(FaultKind kind, int rank, std::int64_t step, const std::string& path);
 // Throws the injected fault after step `step` (simulation, runtime) when due.
 void inject_step_fault(int rank, std::int64_t step);
 

@@ -11,6 +11,7 @@
 // reads them as they are); any other field (bond and contact slots) as an
 // opaque [N][sizeof] byte record whose size is checked on read.
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <functional>
@@ -233,6 +234,9 @@ inline OutputCadence resumed_output_cadence(const Output& out, double time) {
   const double every = out.every_time.value_or(0.0);
   double base = 0;
   if (every > 0) {
+    // The chain, unless absurdly long (an interval the app refuses, as
+    // 1e-300 s: OutputCadence::due does the same).
+    if (time / every > 1e9) return OutputCadence(out, std::floor(time / every) * every);
     for (double next = every; next <= time * (1 + 1e-12); next += every) base = next;
   }
   return OutputCadence(out, base);

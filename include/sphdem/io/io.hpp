@@ -74,7 +74,9 @@ class SnapshotWriter {
   // step). Returns the HDF5 file path. Every rank passes the same sets, in
   // the same order, with the same fields. Throws std::invalid_argument for
   // malformed views and std::runtime_error when a set's ids are not a dense
-  // range or the file system / HDF5 fails; in both cases on every rank.
+  // range, and CollectiveIoError when the file system or HDF5 fails on any
+  // rank (the ranks agree after every call that can fail, so none is left
+  // waiting; the temporary file is removed); in every case on every rank.
   std::string write(std::int64_t step, double time, const std::vector<ParticleSetView>& sets);
 
   const std::string& xdmf_path() const { return xdmf_path_; }
@@ -101,8 +103,8 @@ class SnapshotWriter {
     std::string file;  // relative to the directory
     std::vector<SetEntry> sets;
   };
-  Entry write_hdf5(const std::string& path, std::int64_t step, double time,
-                   const std::vector<ParticleSetView>& sets) const;
+  Entry write_hdf5(const std::string& path, const std::string& final_path, std::int64_t step,
+                   double time, const std::vector<ParticleSetView>& sets) const;
   void write_xdmf(const std::vector<Entry>& entries) const;
   static std::string xdmf_text(const std::string& title, const std::vector<Entry>& entries);
 
