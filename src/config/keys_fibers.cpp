@@ -10,13 +10,22 @@ namespace {
 
 using F = FiberSettings;
 
+// docs/dem.md "Stable time step": a free chain stays stable up to this.
+constexpr double kStableDtSafety = 1.2;
+
 // Exactly one of count and area_fraction (each validated by its key).
-void finish_fibers(const Map& m, F& f, Context&) {
+void finish_fibers(const Map& m, F& f, Context& ctx) {
   f.line = m.self().line();
   const std::optional<Value> count = m.get("count");
   const std::optional<Value> fraction = m.get("area_fraction");
   if (count && fraction) fraction->fail("give either count or area_fraction, not both");
   if (!count && !fraction) m.require("count", " (give count or area_fraction)");
+  if (f.dt_safety > kStableDtSafety) {
+    ctx.c.warnings.push_back(fmt::format(
+        "fibers.dt_safety = {} is above {}, the largest step a free chain of fibers stays stable "
+        "at (docs/dem.md, \"Stable time step\"): expect the DEM to blow up",
+        f.dt_safety, kStableDtSafety));
+  }
 }
 
 Key<F> count() {
@@ -129,8 +138,10 @@ Section<F> make_fibers() {
       region().required().identity(),
       orientation().identity(),
       seed().identity(),
-      number("dt_safety", "", in_range(0, 2, true, false), &F::dt_safety,
-             "DEM step = dt_safety x min sqrt(m/k) (`docs/dem.md`); stable up to about 1.2")
+      // Below 1e-3 a contact would take thousands of steps: no accuracy gained.
+      number("dt_safety", "", in_range(1e-3, 2, false, true), &F::dt_safety,
+             "DEM step = dt_safety x min sqrt(m/k) (`docs/dem.md`); stable up to about 1.2 (a "
+             "warning above)")
           .identity(),
       number("void_fraction_min", "", in_range(0, 1, true, true), &F::void_fraction_min,
              "the local void fraction is clipped to [void_fraction_min, 1] (coupled runs, "
