@@ -107,7 +107,10 @@ Section<F> make_fibers() {
       integer("particles_per_fiber", "", 1, &F::particles_per_fiber,
               "touching particles per fiber (fiber length = this x `diameter`)")
           .identity(),
-      number("diameter", "m", positive_number(), &F::diameter, "particle (fiber) diameter")
+      // From a nanometre to a metre: beyond, masses and stiffnesses leave
+      // the range of doubles (a mass of d^2 underflows at d = 1e-160).
+      number("diameter", "m", in_range(1e-9, 1, false, false), &F::diameter,
+             "particle (fiber) diameter")
           .required()
           .identity(),
       number("density", "kg/m^3", positive_number(), &F::density, "the fibers' density")
