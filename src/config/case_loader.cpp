@@ -108,7 +108,7 @@ Case load_case_from_string(const std::string& text, const std::string& name_for_
                            const std::vector<std::string>& overrides) {
   YAML::Node root = parse_yaml(text, name_for_errors);
   if (root.IsNull() && overrides.empty())
-    throw InputError(name_for_errors, 0, "", "the case file is empty");
+    throw InputError(name_for_errors, 1, "", "the case file is empty");
   const config::Source src(name_for_errors, config::apply_overrides(root, overrides));
   const int root_line = root.Mark().line >= 0 ? root.Mark().line + 1 : 1;
   Case c;
