@@ -97,7 +97,7 @@ TEST(HostileInput, CaseNameMustBeFileNameSafe) {
 TEST(HostileInput, SelfIntersectingPolygonIsRefused) {
   const std::string bowtie = replaced(std::string(kMinimal),
                                       "    - box: {min: [0, 0], max: [0.03, 0.03]}    # 11",
-                                      "    - polygon: [[0, 0], [0.03, 0.03], [0.03, 0], [0, 0.03]]");
+                                      "    - polygon: [[0, 0], [0.03, 0.03], [0.03, 0], [0, 0.02]]");
   expect_error(bowtie, 11, "mold.shapes[0].polygon", "polygon intersects itself: edge 0");
   const std::string repeated = replaced(
       std::string(kMinimal), "    - box: {min: [0, 0], max: [0.03, 0.03]}    # 11",
@@ -171,10 +171,11 @@ TEST(HostileInput, BinaryBytesAreEscapedInErrors) {
 TEST(HostileInput, SizeEstimateFollowsTheGeometry) {
   const Case c = load_case_from_string(std::string(kMinimal), kFile);
   const CaseSize s = estimate_case_size(c, 1);
-  // 0.03 x 0.02 m at 3e-4 m: 100 x 67 = 6700 resin particles (the lattice
-  // gives 100 x 66); walls: 3 layers around the 0.12 m perimeter = 1200.
+  // 0.03 x 0.02 m at 3e-4 m: 6667 resin particles (the lattice: 100 x 66);
+  // walls: the band of 3 layers around the 0.03 m square, (0.0318^2 -
+  // 0.03^2) / dx^2 = 1236.
   EXPECT_NEAR(s.resin, 6667, 1);
-  EXPECT_NEAR(s.walls, 1200, 1);
+  EXPECT_NEAR(s.walls, 1236, 1);
   EXPECT_EQ(s.dem, 0);
   EXPECT_EQ(s.dominant_key, "numerics.spacing");
   EXPECT_GT(s.bytes_per_rank(), 1e6);

@@ -33,13 +33,14 @@ double measure(const Shape& s, int dim) {
   return 0.5 * std::abs(area2);
 }
 
-// Perimeter (2D) or surface (3D) of a shape: the wall layers lie along it.
-double boundary(const Shape& s, int dim) {
+// Area (volume) of the band of thickness t around a shape, where its wall
+// layers lie: the shape grown by t less the shape (a box grows along every
+// axis; a polygon by its perimeter times t plus square corners).
+double band(const Shape& s, int dim, double t) {
   if (s.type == Shape::Type::Box) {
-    const double a = s.hi[0] - s.lo[0], b = s.hi[1] - s.lo[1];
-    if (dim == 2) return 2 * (a + b);
-    const double c = s.hi[2] - s.lo[2];
-    return 2 * (a * b + b * c + c * a);
+    double grown = 1;
+    for (int d = 0; d < dim; ++d) grown *= s.hi[d] - s.lo[d] + 2 * t;
+    return grown - measure(s, dim);
   }
   double length = 0;
   for (std::size_t i = 0; i < s.vertices.size(); ++i) {
@@ -47,7 +48,7 @@ double boundary(const Shape& s, int dim) {
     const auto& b = s.vertices[(i + 1) % s.vertices.size()];
     length += std::hypot(b[0] - a[0], b[1] - a[1]);
   }
-  return length;
+  return length * t + 4 * t * t;
 }
 
 // Bytes per particle of a field registry (every field, owned or ghost).
@@ -76,7 +77,7 @@ template <int D>
 constexpr double kFillBytes = 2.0 * D * sizeof(double);
 // Measured against the peak resident size of `sphdem check` (docs/case-file.md,
 // "Size estimate"): allocator slack, pair-loop packing, halo buffers.
-constexpr double kOverhead = 1.5;
+constexpr double kOverhead = 1.6;
 
 template <int D>
 CaseSize estimate(const Case& c, int ranks) {
@@ -92,11 +93,14 @@ CaseSize estimate(const Case& c, int ranks) {
   if (!c.fill.empty()) {
     for (const Shape& f : c.fill) s.resin += measure(f, D) / std::pow(dx, D);
     for (const Shape& m : c.mold.shapes)
-      s.walls += boundary(m, D) * c.mold.wall_layers / std::pow(dx, D - 1);
+      s.walls += band(m, D, c.mold.wall_layers * dx) / std::pow(dx, D);
     const Box<D> dom = simulation_domain<D>(c);
     s.lattice_nodes = 1;
     for (int d = 0; d < D; ++d) s.lattice_nodes *= (dom.hi[d] - dom.lo[d]) / dx + 1;
     s.cells = grid_cells<D>(dom.lo, dom.hi, reach * dx);
+    // Overlapping shapes count twice above; no more particles than nodes.
+    s.resin = std::min(s.resin, s.lattice_nodes);
+    s.walls = std::min(s.walls, s.lattice_nodes);
     const double n = s.resin + s.walls;
     const double per_particle = registry_bytes<SphParticles<D>>();
     const double owned = n / p;
