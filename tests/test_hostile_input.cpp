@@ -165,6 +165,11 @@ TEST(HostileInput, BinaryBytesAreEscapedInErrors) {
   }
   // Valid UTF-8 stays as it is.
   EXPECT_EQ(printable("r\xc3\xa9sine \x7f"), "r\xc3\xa9sine \\x7f");
+  // C1 controls are valid UTF-8 but terminal commands: escaped.
+  EXPECT_EQ(printable("a\xc2\x9b"
+                      "31m"),
+            "a\\xc2\\x9b"
+            "31m");
 }
 
 // Defect 3: the estimate is made from the geometry, before building.

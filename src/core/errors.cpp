@@ -31,7 +31,11 @@ std::string printable(const std::string& s) {
   for (std::size_t i = 0; i < s.size();) {
     const auto c = static_cast<unsigned char>(s[i]);
     if (c >= 0x80) {
-      if (const std::size_t n = utf8_length(s, i)) {
+      // Valid UTF-8 stays, but for the C1 controls (U+0080..U+009F, 0xC2
+      // 0x80..0x9F): a terminal may act on them (U+009B starts a sequence).
+      const std::size_t n = utf8_length(s, i);
+      const bool c1 = n == 2 && c == 0xC2 && static_cast<unsigned char>(s[i + 1]) < 0xA0;
+      if (n > 0 && !c1) {
         out.append(s, i, n);
         i += n;
         continue;
