@@ -95,13 +95,13 @@ TEST(HostileInput, CaseNameMustBeFileNameSafe) {
 
 // Defect 8: a polygon whose edges cross is not a shape the filling can use.
 TEST(HostileInput, SelfIntersectingPolygonIsRefused) {
-  const std::string bowtie = replaced(std::string(kMinimal),
-                                      "    - box: {min: [0, 0], max: [0.03, 0.03]}    # 11",
-                                      "    - polygon: [[0, 0], [0.03, 0.03], [0.03, 0], [0, 0.02]]");
+  const std::string bowtie =
+      replaced(std::string(kMinimal), "    - box: {min: [0, 0], max: [0.03, 0.03]}    # 11",
+               "    - polygon: [[0, 0], [0.03, 0.03], [0.03, 0], [0, 0.02]]");
   expect_error(bowtie, 11, "mold.shapes[0].polygon", "polygon intersects itself: edge 0");
-  const std::string repeated = replaced(
-      std::string(kMinimal), "    - box: {min: [0, 0], max: [0.03, 0.03]}    # 11",
-      "    - polygon: [[0, 0], [0.03, 0], [0.03, 0], [0.03, 0.03], [0, 0.03]]");
+  const std::string repeated =
+      replaced(std::string(kMinimal), "    - box: {min: [0, 0], max: [0.03, 0.03]}    # 11",
+               "    - polygon: [[0, 0], [0.03, 0], [0.03, 0], [0.03, 0.03], [0, 0.03]]");
   expect_error(repeated, 11, "mold.shapes[0].polygon", "polygon intersects itself");
   // A simple concave polygon (an L) is fine.
   const std::string ell = replaced(
@@ -145,8 +145,7 @@ TEST(HostileInput, OnlyRegularFilesOfModestSizeAreRead) {
   }
   EXPECT_NE(load_error(huge).find("a case file is at most 16 MiB"), std::string::npos);
   std::filesystem::remove(huge);
-  EXPECT_NE(load_error(temp_path("missing.yaml")).find("cannot open case file"),
-            std::string::npos);
+  EXPECT_NE(load_error(temp_path("missing.yaml")).find("cannot open case file"), std::string::npos);
 }
 
 // Defect 8: the error about a binary file echoes no raw bytes.
@@ -196,10 +195,10 @@ TEST(HostileInput, SizeEstimateFollowsTheGeometry) {
       load_case_from_string(std::string(kMinimal), kFile, {"numerics.spacing=1e-6"}), 1);
   EXPECT_GT(huge.bytes_per_rank(), 1e11);
   // Fibers by area fraction of a tiny diameter: the DEM dominates.
-  const Case fibers = load_case_from_string(
-      replaced(replaced(with_fibers(), "  count: 10", "  area_fraction: 0.3"),
-               "  diameter: 2.5e-4", "  diameter: 1e-8"),
-      kFile);
+  const Case fibers =
+      load_case_from_string(replaced(replaced(with_fibers(), "  count: 10", "  area_fraction: 0.3"),
+                                     "  diameter: 2.5e-4", "  diameter: 1e-8"),
+                            kFile);
   const CaseSize many = estimate_case_size(fibers, 1);
   EXPECT_GT(many.dem, 1e11);
   EXPECT_EQ(many.dominant_key, "fibers.area_fraction");

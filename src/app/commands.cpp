@@ -199,8 +199,7 @@ int check_case(const Case& c, const Comm& comm, const CaseSize& size) {
       "  steps to end_time {:.4g} s: about {:.0f}\n"
       "  run time: about {:.0f} s on one core (at {:.1g} particle-steps/s)\n",
       c.name, D, sim.global_fluid_count(), sim.global_wall_count(), c.numerics.spacing, sp.h, sp.c0,
-      ts.dt, to_string(ts.limit), c.numerics.end_time, steps, seconds,
-      kParticleStepsPerSecond);
+      ts.dt, to_string(ts.limit), c.numerics.end_time, steps, seconds, kParticleStepsPerSecond);
   if (sim.dem()) {
     // Measured on the coupled plate (docs/performance.md): DEM and coupling
     // together cost about as much again as the resin.

@@ -60,7 +60,7 @@ generated from it.
   (`MemAvailable` of `/proc/meminfo`, or `--max-memory 16G`) is refused,
   exit 2, at the key that dominates (`numerics.spacing`, or the fibers'
   amount or diameter): `--set: key 'numerics.spacing': the case needs about
-  1.46 TiB on this node ...`. `check` prints the estimate (`memory: about
+  340 GiB on this node ...` (`inputs/plate.yaml` at a spacing of 1e-6 m). `check` prints the estimate (`memory: about
   ... per rank`). Tests: `test_hostile_input`, ctest `hostile_size`.
 
 ### Shapes

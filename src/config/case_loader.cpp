@@ -45,8 +45,7 @@ std::string read_case_file(const std::string& path) {
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
   if (ec || !fs::exists(st)) throw InputError(path, 0, "", "cannot open case file (no such file)");
-  if (fs::is_directory(st))
-    throw InputError(path, 0, "", "is a directory, not a case file");
+  if (fs::is_directory(st)) throw InputError(path, 0, "", "is a directory, not a case file");
   if (!fs::is_regular_file(st))
     throw InputError(path, 0, "", "not a regular file (a device, pipe or socket), not a case file");
   const std::uintmax_t size = fs::file_size(path, ec);

@@ -40,10 +40,11 @@ std::string name_from_file(const std::string& file) {
 
 Key<Case> name() {
   Key<Case> k = string("name", &Case::name, "the case's name: output files are `<name>_<step>.h5`");
-  k.defaults_to("the file name without its extension (other characters than below as '_')")
+  k.defaults_to("the file name without its extension, other characters than those allowed as '_'")
       .constraint("letters, digits, '_', '-', '.', '+'; at most 100; not starting with '.' or '-'")
-      .when_absent(
-          [](const Map& m, Case& c, Context&) { c.name = name_from_file(m.self().source().file()); });
+      .when_absent([](const Map& m, Case& c, Context&) {
+        c.name = name_from_file(m.self().source().file());
+      });
   const auto read = k.read;
   k.read = [read](const Value& v, Case& c, Context& ctx) {
     read(v, c, ctx);

@@ -77,9 +77,10 @@ std::int64_t CheckpointReader::integer_in(const std::string& name, std::int64_t 
                                           std::int64_t hi) const {
   const std::int64_t v = integer(name);
   if (v < lo || v > hi)
-    throw InputError(impl_->path, 0, "",
-                     fmt::format("attribute '{}' is {}, outside [{}, {}]: the checkpoint is corrupt",
-                                 name, v, lo, hi));
+    throw InputError(
+        impl_->path, 0, "",
+        fmt::format("attribute '{}' is {}, outside [{}, {}]: the checkpoint is corrupt", name, v,
+                    lo, hi));
   return v;
 }
 
@@ -87,9 +88,10 @@ double CheckpointReader::real_in(const std::string& name, double lo, double hi,
                                  bool lo_open) const {
   const double v = real(name);
   if ((lo_open ? !(v > lo) : !(v >= lo)) || !(v <= hi))
-    throw InputError(impl_->path, 0, "",
-                     fmt::format("attribute '{}' is {}, outside {}{}, {}]: the checkpoint is corrupt",
-                                 name, v, lo_open ? '(' : '[', lo, hi));
+    throw InputError(
+        impl_->path, 0, "",
+        fmt::format("attribute '{}' is {}, outside {}{}, {}]: the checkpoint is corrupt", name, v,
+                    lo_open ? '(' : '[', lo, hi));
   return v;
 }
 
@@ -119,7 +121,8 @@ std::vector<double> CheckpointReader::reals(const std::string& name) const {
     if (!v.empty()) check(H5Aread(attr.get(), H5T_NATIVE_DOUBLE, v.data()), "read attribute", path);
     for (const double x : v)
       if (!std::isfinite(x))
-        throw std::runtime_error(fmt::format("attribute '{}' holds {}, not a finite number", name, x));
+        throw std::runtime_error(
+            fmt::format("attribute '{}' holds {}, not a finite number", name, x));
     return v;
   });
 }

@@ -105,8 +105,8 @@ CaseSize estimate(const Case& c, int ranks) {
     const double per_particle = registry_bytes<SphParticles<D>>();
     const double owned = n / p;
     // A rank's ghosts: a layer `reach` spacings deep around its share.
-    const double ghosts = p > 1 ? std::min(n - owned, 2.0 * D * std::pow(owned, (D - 1.0) / D) * reach)
-                                : 0.0;
+    const double ghosts =
+        p > 1 ? std::min(n - owned, 2.0 * D * std::pow(owned, (D - 1.0) / D) * reach) : 0.0;
     sph_setup = n * (per_particle + kFillBytes<D>);
     sph_run = (owned + ghosts) * (per_particle + neighbours * sizeof(std::int32_t)) +
               owned * sizeof(std::size_t);
@@ -116,8 +116,10 @@ CaseSize estimate(const Case& c, int ranks) {
     double fibers = f.count;
     if (f.count == 0) {
       const double d = f.diameter;
-      const double particle = D == 2 ? std::numbers::pi * d * d / 4 : std::numbers::pi * d * d * d / 6;
-      fibers = std::ceil(f.area_fraction * measure(f.region, D) / (particle * f.particles_per_fiber));
+      const double particle =
+          D == 2 ? std::numbers::pi * d * d / 4 : std::numbers::pi * d * d * d / 6;
+      fibers =
+          std::ceil(f.area_fraction * measure(f.region, D) / (particle * f.particles_per_fiber));
     }
     s.dem = fibers * f.particles_per_fiber;
     // Every rank holds every fiber at set-up (and in a fibers-only run's

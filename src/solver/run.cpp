@@ -284,8 +284,7 @@ std::string Run<D>::write_checkpoint() {
 
 template <int D>
 std::string Run<D>::restart_from(const std::string& checkpoint) {
-  if (opt_.write_output)
-    remove_stale_checkpoint_temporaries(comm_, opt_.output_dir, case_.name);
+  if (opt_.write_output) remove_stale_checkpoint_temporaries(comm_, opt_.output_dir, case_.name);
   const std::string path =
       restart_from_checkpoint(checkpoint, opt_.output_dir, case_.name, comm_, opt_.log,
                               [this](const std::string& p) { load_checkpoint(p); });
@@ -308,10 +307,10 @@ void read_checkpoint_clock(const CheckpointReader& r, const std::string& path, C
   clock.time = r.real_in("time", 0, inf);
   clock.dt.dt = r.real_in("dt", 0, inf, /*lo_open=*/true);
   // The resin's limits (a fibers-only checkpoint has no dt_limit).
-  clock.dt.limit = resin ? static_cast<DtLimit>(r.integer_in(
-                               "dt_limit", static_cast<std::int64_t>(DtLimit::Cfl),
-                               static_cast<std::int64_t>(DtLimit::Dem)))
-                         : DtLimit::Dem;
+  clock.dt.limit =
+      resin ? static_cast<DtLimit>(r.integer_in("dt_limit", static_cast<std::int64_t>(DtLimit::Cfl),
+                                                static_cast<std::int64_t>(DtLimit::Dem)))
+            : DtLimit::Dem;
   if ((clock.step == 0) != (clock.time == 0))
     throw InputError(path, 0, "",
                      fmt::format("attributes 'step' ({}) and 'time' ({}) disagree: the checkpoint "
