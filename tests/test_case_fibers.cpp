@@ -112,7 +112,7 @@ TEST(CaseFibers, Errors) {
   expect_error(edit("  count: 175", "  count: 1\n  area_fraction: 0.1"), 9, "fibers.area_fraction",
                "not both");
   expect_error(edit("  diameter: 2.5e-4", "  diameter: -1"), 9, "fibers.diameter",
-               "must be positive");
+               "must be in [1e-09, 1]");
   expect_error(edit("  count: 175", "  count: 175\n  orientation: sideways"), 9,
                "fibers.orientation", "expected a number");
   expect_error(edit("max: [0.015, 0.06]}}   # 12", "max: [0.015, 0.07]}}"), 12, "fibers.region",

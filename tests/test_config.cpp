@@ -542,7 +542,7 @@ TEST(Config, YamlSyntaxError) {
 }
 
 TEST(Config, EmptyFile) {
-  expect_error("# nothing here\n", 0, "", "the case file is empty");
+  expect_error("# nothing here\n", 1, "", "the case file is empty");
 }
 
 // The viscous limit, with the viscosity raised from the command line: the

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <optional>
 
+#include "memory_guard.hpp"
 #include "output_dir.hpp"
 #include "output_interval.hpp"
 #include "partition_command.hpp"
@@ -34,6 +35,7 @@ struct RunArgs {
   std::string restart;                // checkpoint path or "latest" (docs/checkpoint.md)
   std::int64_t checkpoint_every = 0;  // 0: the case's checkpoint.every_steps
   bool overwrite = false;
+  std::string max_memory;  // --max-memory; empty: the node's MemAvailable
 };
 
 // After a stop request (SIGTERM, SIGUSR1) the run wrote a checkpoint: say
@@ -90,6 +92,21 @@ void print_settings(const Case& c) {
     if (!s.is_default) std::cout << fmt::format("    {} = {}\n", s.key, s.value);
 }
 
+// Remarks that do not stop a run (Case::warnings), once.
+void print_warnings(const Case& c, const Comm& comm) {
+  if (!comm.root()) return;
+  for (const std::string& w : c.warnings) std::cerr << "sphdem: warning: " << w << "\n";
+}
+
+// `sphdem check`: the estimate made before anything was built (the memory
+// guard, memory_guard.hpp), beside the counts of the built case.
+void print_estimate(const CaseSize& s, const Comm& comm) {
+  std::cout << fmt::format(
+      "  memory: about {} per rank at {} rank(s) (estimated before building, from about {:.3g} "
+      "resin, {:.3g} wall and {:.3g} DEM particles)\n",
+      format_bytes(s.bytes_per_rank()), comm.size(), s.resin, s.walls, s.dem);
+}
+
 RunOptions run_options(const Case& c, const RunArgs& a) {
   RunOptions opt;
   opt.output_dir = a.output_dir.empty() ? c.output.directory : a.output_dir;
@@ -101,7 +118,7 @@ RunOptions run_options(const Case& c, const RunArgs& a) {
 }
 
 template <int D>
-int check_dem_case(const Case& c, const Comm& comm) {
+int check_dem_case(const Case& c, const Comm& comm, const CaseSize& size) {
   RunOptions opt;
   opt.write_output = false;
   const DemRun<D> run(c, comm, opt);
@@ -118,6 +135,7 @@ int check_dem_case(const Case& c, const Comm& comm) {
       c.name, D, run.dem().global_count(), run.placement().fibers, 100 * run.placement().fraction,
       run.dem().walls().size(), run.dt(), c.fibers->dt_safety, c.numerics.end_time, steps,
       n * steps / kDemParticleStepsPerSecond, kDemParticleStepsPerSecond);
+  print_estimate(size, comm);
   print_settings(c);
   return 0;
 }
@@ -177,7 +195,7 @@ int run_case(const Case& c, const RunArgs& a, const Comm& comm) {
 }
 
 template <int D>
-int check_case(const Case& c, const Comm& comm) {
+int check_case(const Case& c, const Comm& comm, const CaseSize& size) {
   RunOptions opt;
   opt.write_output = false;
   Simulation<D> sim(c, comm, opt);
@@ -188,8 +206,6 @@ int check_case(const Case& c, const Comm& comm) {
   const double v_est = 0.1 * sp.c0;
   const TimeStep ts = choose_time_step(c.numerics, sp, v_est, 0.0);
   const double steps = std::ceil(c.numerics.end_time / ts.dt);
-  const double n = static_cast<double>(sim.global_fluid_count() + sim.global_wall_count());
-  const double bytes = n * (D * 8.0 * 7 + 8.0 * 8 + 4.0 * (D == 2 ? 30 : 80));
   const double seconds =
       static_cast<double>(sim.global_fluid_count()) * steps / kParticleStepsPerSecond;
   std::cout << fmt::format(
@@ -198,11 +214,9 @@ int check_case(const Case& c, const Comm& comm) {
       "  spacing {:.4g} m, h {:.4g} m, c0 {:.4g} m/s\n"
       "  time step: {:.4g} s, limited by {} (at |v| = 0.1 c0)\n"
       "  steps to end_time {:.4g} s: about {:.0f}\n"
-      "  memory: about {:.1f} MiB\n"
       "  run time: about {:.0f} s on one core (at {:.1g} particle-steps/s)\n",
       c.name, D, sim.global_fluid_count(), sim.global_wall_count(), c.numerics.spacing, sp.h, sp.c0,
-      ts.dt, to_string(ts.limit), c.numerics.end_time, steps, bytes / (1024.0 * 1024.0), seconds,
-      kParticleStepsPerSecond);
+      ts.dt, to_string(ts.limit), c.numerics.end_time, steps, seconds, kParticleStepsPerSecond);
   if (sim.dem()) {
     // Measured on the coupled plate (docs/performance.md): DEM and coupling
     // together cost about as much again as the resin.
@@ -214,6 +228,7 @@ int check_case(const Case& c, const Comm& comm) {
         sim.placement().fibers, sim.dem()->global_count(), 100 * sim.placement().fraction,
         sim.dem_dt(), sub, 2.2 * seconds);
   }
+  print_estimate(size, comm);
   print_settings(c);
   return 0;
 }
@@ -242,6 +257,10 @@ int dispatch(int argc, char** argv) {
       ->add_option("--checkpoint-every", run.checkpoint_every,
                    "Write a checkpoint every N steps (overrides checkpoint.every_steps)")
       ->check(CLI::PositiveNumber);
+  const std::string memory_help =
+      "Memory the ranks on one node may use, e.g. 16G (default: the node's MemAvailable); a "
+      "case estimated to need more is refused before it is built";
+  run_cmd->add_option("--max-memory", run.max_memory, memory_help);
   run_cmd
       ->add_flag("--overwrite", run.overwrite,
                  "Replace the output of an earlier run in the output directory")
@@ -252,6 +271,7 @@ int dispatch(int argc, char** argv) {
       app.add_subcommand("check", "Validate a case and print counts, time step and estimates");
   check_cmd->add_option("case", check.case_file, "Case file (YAML)")->required();
   check_cmd->add_option("--set", check.sets, "Override a case key")->allow_extra_args(false);
+  check_cmd->add_option("--max-memory", check.max_memory, memory_help);
 
   bool markdown = false;
   CLI::App* keys_cmd =
@@ -283,12 +303,17 @@ int dispatch(int argc, char** argv) {
                      "give it first on the command line: sphdem scaling CASE ...");
   if (run_cmd->parsed()) install_stop_signals();
   const RunArgs& a = run_cmd->parsed() ? run : check;
+  const std::optional<double> max_memory =
+      a.max_memory.empty() ? std::nullopt : std::optional<double>(parse_memory_size(a.max_memory));
   const Case c = load_case_on_every_rank(comm, a);
+  print_warnings(c, comm);
+  // Before anything is built: a case too big for the node is refused.
+  const CaseSize size = check_case_fits(c, comm, max_memory);
   if (run_cmd->parsed())
     return c.dimension == 2 ? run_case<2>(c, a, comm) : run_case<3>(c, a, comm);
   if (c.fill.empty())  // fibers only (the loader requires one of the two)
-    return c.dimension == 2 ? check_dem_case<2>(c, comm) : check_dem_case<3>(c, comm);
-  return c.dimension == 2 ? check_case<2>(c, comm) : check_case<3>(c, comm);
+    return c.dimension == 2 ? check_dem_case<2>(c, comm, size) : check_dem_case<3>(c, comm, size);
+  return c.dimension == 2 ? check_case<2>(c, comm, size) : check_case<3>(c, comm, size);
 }
 
 }  // namespace sphdem::app

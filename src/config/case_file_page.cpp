@@ -43,8 +43,25 @@ generated from it.
 - **Vectors** are lists of exactly D numbers, D being `dimension`:
   `[x, y]` in 2D, `[x, y, z]` in 3D.
 - **Errors do not stop at warnings.** A few remarks are not errors (a Mach
-  number above 0.1): they are collected in `Case::warnings` and printed by
+  number above 0.1, `fibers.dt_safety` above 1.2): they are collected in
+  `Case::warnings` and printed (`sphdem: warning: ...`, on stderr, once) by
   `sphdem check` and at the start of a run.
+- **A case file is one regular file** of at most 16 MiB holding one YAML
+  document: a directory, a device (`/dev/zero`), a larger file or a second
+  document (after `---`) is an error. Bytes that are not printable UTF-8
+  are shown as `\xNN` in messages, long values cut short.
+- **Size estimate.** Before building anything, `check` and `run` estimate
+  the particle counts (fill volumes over spacing^D, the mold's boundary
+  times the wall layers, fibers times particles per fiber) and each rank's
+  peak memory (at set-up every rank builds every particle; then its share,
+  its ghosts, its neighbour lists and the cell grid), from
+  `estimate_case_size` (`include/sphdem/solver/case_size.hpp`). A case whose
+  ranks on one node need more than the node's available memory
+  (`MemAvailable` of `/proc/meminfo`, or `--max-memory 16G`) is refused,
+  exit 2, at the key that dominates (`numerics.spacing`, or the fibers'
+  amount or diameter): `--set: key 'numerics.spacing': the case needs about
+  340 GiB on this node ...` (`inputs/plate.yaml` at a spacing of 1e-6 m). `check` prints the estimate (`memory: about
+  ... per rank`). Tests: `test_hostile_input`, ctest `hostile_size`.
 
 ### Shapes
 

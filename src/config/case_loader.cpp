@@ -1,5 +1,9 @@
 // Case files: YAML text (+ `--set` overrides) -> validated Case, by walking
 // the key schema (schema.hpp); and back: the effective case as YAML.
+#include <fmt/format.h>
+
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -14,13 +18,51 @@ namespace sphdem {
 
 namespace {
 
+// A case file is one YAML document: a second one (after `---`) would be
+// ignored silently, so it is an error.
 YAML::Node parse_yaml(const std::string& text, const std::string& file) {
+  std::vector<YAML::Node> docs;
   try {
-    return YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
+    docs = YAML::LoadAll(text);
+  } catch (const YAML::Exception& e) {
     throw InputError(file, e.mark.line >= 0 ? e.mark.line + 1 : 0, "",
                      "YAML syntax error: " + e.msg);
   }
+  if (docs.size() > 1) {
+    const int line = docs[1].Mark().line >= 0 ? docs[1].Mark().line + 1 : 0;
+    throw InputError(file, line, "",
+                     "a second YAML document (after '---'): a case file holds one document");
+  }
+  return docs.empty() ? YAML::Node() : docs.front();
+}
+
+// Case files are small text files: anything else (a directory, a device
+// such as /dev/zero, a huge file) is refused before it is read.
+constexpr std::uintmax_t kMaxCaseFileBytes = 16u << 20;
+
+std::string read_case_file(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st)) throw InputError(path, 0, "", "cannot open case file (no such file)");
+  if (fs::is_directory(st)) throw InputError(path, 0, "", "is a directory, not a case file");
+  if (!fs::is_regular_file(st))
+    throw InputError(path, 0, "", "not a regular file (a device, pipe or socket), not a case file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (!ec && size > kMaxCaseFileBytes) {
+    throw InputError(path, 0, "",
+                     fmt::format("the file is {} bytes; a case file is at most {} MiB", size,
+                                 kMaxCaseFileBytes >> 20));
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "", "cannot open case file");
+  std::string text(kMaxCaseFileBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxCaseFileBytes)  // grew while we looked
+    throw InputError(path, 0, "",
+                     fmt::format("a case file is at most {} MiB", kMaxCaseFileBytes >> 20));
+  return text;
 }
 
 // yaml-cpp's emitter drops the quotes of a quoted scalar ('900' would come
@@ -65,7 +107,7 @@ Case load_case_from_string(const std::string& text, const std::string& name_for_
                            const std::vector<std::string>& overrides) {
   YAML::Node root = parse_yaml(text, name_for_errors);
   if (root.IsNull() && overrides.empty())
-    throw InputError(name_for_errors, 0, "", "the case file is empty");
+    throw InputError(name_for_errors, 1, "", "the case file is empty");
   const config::Source src(name_for_errors, config::apply_overrides(root, overrides));
   const int root_line = root.Mark().line >= 0 ? root.Mark().line + 1 : 1;
   Case c;
@@ -84,11 +126,7 @@ Case load_case_from_string(const std::string& text, const std::string& name_for_
 }
 
 Case load_case(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, "", "cannot open case file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return load_case_from_string(text.str(), path, overrides);
+  return load_case_from_string(read_case_file(path), path, overrides);
 }
 
 std::string effective_case_yaml(const Case& c) {

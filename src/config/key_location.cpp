@@ -1,35 +1,64 @@
-// Where a key of a loaded case was set (config.hpp): for errors found after
-// loading, which must still name file, line and key.
+// key_location and input_error_at (config.hpp): where a key of a loaded case
+// was set, found again in the case file's text, for errors found after
+// loading that must still name file, line and key.
 #include <yaml-cpp/yaml.h>
 
-#include <sstream>
-#include <utility>
+#include <exception>
+#include <string>
 
+#include "overrides.hpp"
 #include "sphdem/config/config.hpp"
+#include "sphdem/core/errors.hpp"
+#include "yaml_reader.hpp"
 
 namespace sphdem {
 
-KeyLocation key_location(const Case& c, const std::string& key) {
-  // An override of the key or of a mapping above it set the value.
-  for (const std::string& o : c.overrides) {
-    const std::string set = o.substr(0, o.find('='));
-    if (key == set || key.rfind(set + ".", 0) == 0) return {"--set", 0};
-  }
-  KeyLocation where{c.source_file, 0};
+namespace {
+
+// The 1-based line of the dotted key `key` (plain mapping keys only) in
+// `text`, 0 when it is not there.
+int key_line(const std::string& text, const std::string& key) {
   try {
-    YAML::Node node = YAML::Load(c.source_text);
-    std::istringstream parts(key);
-    for (std::string part; std::getline(parts, part, '.');) {
-      if (!node.IsMap()) return where;
-      const YAML::Node child = std::as_const(node)[part];  // const: no insertion
-      if (!child.IsDefined()) return where;
-      node.reset(child);  // rebinds (operator= would assign into the tree)
+    YAML::Node node = YAML::Load(text);
+    std::size_t start = 0;
+    int line = 0;
+    while (start <= key.size()) {
+      const std::size_t dot = key.find('.', start);
+      const std::string part = key.substr(start, dot == std::string::npos ? dot : dot - start);
+      if (!node.IsMap()) return 0;
+      YAML::Node next;
+      for (auto it = node.begin(); it != node.end(); ++it) {
+        if (it->first.IsScalar() && it->first.Scalar() == part) {
+          line = it->first.Mark().line + 1;
+          next = it->second;
+        }
+      }
+      if (!next) return 0;
+      node = next;
+      if (dot == std::string::npos) return line;
+      start = dot + 1;
     }
-    if (node.Mark().line >= 0) where.line = node.Mark().line + 1;
   } catch (const YAML::Exception&) {
-    // The file loaded before, so this does not happen; the line stays unknown.
   }
-  return where;
+  return 0;
+}
+
+}  // namespace
+
+KeyLocation key_location(const Case& c, const std::string& key) {
+  try {
+    YAML::Node tree = YAML::Load(c.source_text);
+    const config::Source src(c.source_file, config::apply_overrides(tree, c.overrides));
+    if (src.overridden(key)) return {"--set", 0};
+  } catch (const std::exception&) {
+    // The case loaded, so this does not happen; the file's line is still right.
+  }
+  return {c.source_file, key_line(c.source_text, key)};
+}
+
+InputError input_error_at(const Case& c, const std::string& key, const std::string& message) {
+  const KeyLocation where = key_location(c, key);
+  return InputError(where.file, where.line, key, message);
 }
 
 }  // namespace sphdem

@@ -2,6 +2,7 @@
 // are read: later keys use earlier ones (the dimension, the resin, the
 // periodic axes).
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 
 #include "schema.hpp"
@@ -14,12 +15,44 @@ bool any_periodic(const Case& c) {
   return std::count(c.periodic.begin(), c.periodic.end(), true) > 0;
 }
 
+// Output files are named after the case: a name must be a plain file name
+// (no '/', which would write outside the output directory, no spaces or
+// control characters, not hidden).
+bool file_name_safe(const std::string& s) {
+  constexpr std::size_t kMaxName = 100;
+  if (s.empty() || s.size() > kMaxName || s.front() == '.' || s.front() == '-') return false;
+  return std::all_of(s.begin(), s.end(), [](char ch) {
+    return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == '.' ||
+           ch == '+';
+  });
+}
+
+// The file's stem, with the characters a name may not hold replaced by '_'.
+std::string name_from_file(const std::string& file) {
+  std::string stem = std::filesystem::path(file).stem().string();
+  for (char& ch : stem)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '.' && ch != '+')
+      ch = '_';
+  if (stem.size() > 100) stem.resize(100);
+  if (stem.empty() || stem.front() == '.' || stem.front() == '-') stem.insert(0, "case");
+  return stem;
+}
+
 Key<Case> name() {
   Key<Case> k = string("name", &Case::name, "the case's name: output files are `<name>_<step>.h5`");
-  k.defaults_to("the file name without its extension")
+  k.defaults_to("the file name without its extension, other characters than those allowed as '_'")
+      .constraint("letters, digits, '_', '-', '.', '+'; at most 100; not starting with '.' or '-'")
       .when_absent([](const Map& m, Case& c, Context&) {
-        c.name = std::filesystem::path(m.self().source().file()).stem().string();
+        c.name = name_from_file(m.self().source().file());
       });
+  const auto read = k.read;
+  k.read = [read](const Value& v, Case& c, Context& ctx) {
+    read(v, c, ctx);
+    if (!file_name_safe(c.name))
+      v.fail("'" + c.name +
+             "' is not a file-name-safe case name (letters, digits, '_', '-', '.', '+'; at most "
+             "100; not starting with '.' or '-')");
+  };
   return k;
 }
 

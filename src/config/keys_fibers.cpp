@@ -10,13 +10,22 @@ namespace {
 
 using F = FiberSettings;
 
+// docs/dem.md "Stable time step": a free chain stays stable up to this.
+constexpr double kStableDtSafety = 1.2;
+
 // Exactly one of count and area_fraction (each validated by its key).
-void finish_fibers(const Map& m, F& f, Context&) {
+void finish_fibers(const Map& m, F& f, Context& ctx) {
   f.line = m.self().line();
   const std::optional<Value> count = m.get("count");
   const std::optional<Value> fraction = m.get("area_fraction");
   if (count && fraction) fraction->fail("give either count or area_fraction, not both");
   if (!count && !fraction) m.require("count", " (give count or area_fraction)");
+  if (f.dt_safety > kStableDtSafety) {
+    ctx.c.warnings.push_back(fmt::format(
+        "fibers.dt_safety = {} is above {}, the largest step a free chain of fibers stays stable "
+        "at (docs/dem.md, \"Stable time step\"): expect the DEM to blow up",
+        f.dt_safety, kStableDtSafety));
+  }
 }
 
 Key<F> count() {
@@ -98,7 +107,10 @@ Section<F> make_fibers() {
       integer("particles_per_fiber", "", 1, &F::particles_per_fiber,
               "touching particles per fiber (fiber length = this x `diameter`)")
           .identity(),
-      number("diameter", "m", positive_number(), &F::diameter, "particle (fiber) diameter")
+      // From a nanometre to a metre: beyond, masses and stiffnesses leave
+      // the range of doubles (a mass of d^2 underflows at d = 1e-160).
+      number("diameter", "m", in_range(1e-9, 1, false, false), &F::diameter,
+             "particle (fiber) diameter")
           .required()
           .identity(),
       number("density", "kg/m^3", positive_number(), &F::density, "the fibers' density")
@@ -129,8 +141,10 @@ Section<F> make_fibers() {
       region().required().identity(),
       orientation().identity(),
       seed().identity(),
-      number("dt_safety", "", in_range(0, 2, true, false), &F::dt_safety,
-             "DEM step = dt_safety x min sqrt(m/k) (`docs/dem.md`); stable up to about 1.2")
+      // Below 1e-3 a contact would take thousands of steps: no accuracy gained.
+      number("dt_safety", "", in_range(1e-3, 2, false, true), &F::dt_safety,
+             "DEM step = dt_safety x min sqrt(m/k) (`docs/dem.md`); stable up to about 1.2 (a "
+             "warning above)")
           .identity(),
       number("void_fraction_min", "", in_range(0, 1, true, true), &F::void_fraction_min,
              "the local void fraction is clipped to [void_fraction_min, 1] (coupled runs, "

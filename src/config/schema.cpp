@@ -67,7 +67,7 @@ std::string show_bool(bool b) {
 std::string one_of(const Value& v, const std::vector<std::string>& allowed) {
   const std::string s = v.string();
   if (std::find(allowed.begin(), allowed.end(), s) == allowed.end()) {
-    v.fail("unknown value '" + s + "'" + suggestion(s, allowed));
+    v.fail("unknown value " + v.describe() + suggestion(s, allowed));
   }
   return s;
 }

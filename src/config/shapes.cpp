@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <utility>
 
 namespace sphdem::config {
 
@@ -13,10 +15,63 @@ namespace {
 constexpr int kEdgeSegments = 8;  // samples per edge in point_outside
 constexpr const char* kAxis[] = {"x", "y", "z"};
 
+using Point2 = std::array<double, 2>;
+
+// Sign of the turn a -> b -> c (cross product), 0 when collinear.
+double orientation(const Point2& a, const Point2& b, const Point2& c) {
+  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+bool on_segment(const Point2& a, const Point2& b, const Point2& p) {
+  return std::min(a[0], b[0]) <= p[0] && p[0] <= std::max(a[0], b[0]) &&
+         std::min(a[1], b[1]) <= p[1] && p[1] <= std::max(a[1], b[1]);
+}
+
+// Segments ab and cd share a point (touching counts).
+bool segments_meet(const Point2& a, const Point2& b, const Point2& c, const Point2& d) {
+  const double o1 = orientation(a, b, c), o2 = orientation(a, b, d);
+  const double o3 = orientation(c, d, a), o4 = orientation(c, d, b);
+  if (((o1 > 0 && o2 < 0) || (o1 < 0 && o2 > 0)) && ((o3 > 0 && o4 < 0) || (o3 < 0 && o4 > 0)))
+    return true;
+  return (o1 == 0 && on_segment(a, b, c)) || (o2 == 0 && on_segment(a, b, d)) ||
+         (o3 == 0 && on_segment(c, d, a)) || (o4 == 0 && on_segment(c, d, b));
+}
+
+// The first pair of edges (i, j) of a polygon that cross or touch other
+// than at their shared vertex; a simple polygon has none (the filling's
+// inside test and the mold's wall outline assume one).
+std::optional<std::pair<std::size_t, std::size_t>> crossing_edges(const std::vector<Point2>& v) {
+  const std::size_t n = v.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const bool adjacent = j == i + 1 || (i == 0 && j == n - 1);
+      const Point2 &a = v[i], &b = v[(i + 1) % n], &c = v[j], &d = v[(j + 1) % n];
+      if (adjacent) {
+        // Neighbours share one vertex; they must not fold back onto each other.
+        const Point2& shared = j == i + 1 ? b : a;
+        const Point2& p = j == i + 1 ? a : b;
+        const Point2& q = j == i + 1 ? d : c;
+        const bool repeated = p == shared || q == shared;
+        const bool folds = orientation(p, shared, q) == 0 &&
+                           (on_segment(p, shared, q) || on_segment(shared, q, p));
+        if (repeated || folds) return std::pair{i, j};
+        continue;
+      }
+      if (segments_meet(a, b, c, d)) return std::pair{i, j};
+    }
+  }
+  return std::nullopt;
+}
+
+// The self-intersection test is quadratic in the vertex count.
+constexpr std::size_t kMaxPolygonVertices = 10000;
+
 std::vector<std::array<double, 2>> read_polygon(const Value& v, int dim) {
   if (dim != 2) v.fail("polygons are 2D only; use a box in 3D");
   const std::vector<Value> items = v.list();
   if (items.size() < 3) v.fail(fmt::format("needs at least 3 vertices, got {}", items.size()));
+  if (items.size() > kMaxPolygonVertices)
+    v.fail(fmt::format("has {} vertices; at most {}", items.size(), kMaxPolygonVertices));
   std::vector<std::array<double, 2>> vertices;
   for (const Value& item : items) {
     const Vec3a p = item.vector(2);
@@ -31,6 +86,15 @@ std::vector<std::array<double, 2>> read_polygon(const Value& v, int dim) {
     size = std::max({size, std::abs(a[0] - b[0]), std::abs(a[1] - b[1])});
   }
   if (!(std::abs(area2) > 1e-12 * size * size)) v.fail("polygon is degenerate (zero area)");
+  if (const auto e = crossing_edges(vertices)) {
+    const auto edge = [&](std::size_t k) {
+      return fmt::format("[{}, {}]-[{}, {}]", vertices[k][0], vertices[k][1],
+                         vertices[(k + 1) % vertices.size()][0],
+                         vertices[(k + 1) % vertices.size()][1]);
+    };
+    v.fail(fmt::format("polygon intersects itself: edge {} {} meets edge {} {}", e->first,
+                       edge(e->first), e->second, edge(e->second)));
+  }
   return vertices;
 }
 

@@ -41,6 +41,13 @@ std::size_t edit_distance(std::string_view a, std::string_view b) {
   return row[b.size()];
 }
 
+// A scalar as echoed in a message: long ones (junk, a pasted blob) cut short.
+std::string quoted(const std::string& s) {
+  constexpr std::size_t kMaxShown = 60;
+  if (s.size() <= kMaxShown) return "'" + s + "'";
+  return fmt::format("'{}...' ({} characters)", s.substr(0, kMaxShown), s.size());
+}
+
 int line_of(const YAML::Node& n) {
   return n.Mark().line >= 0 ? n.Mark().line + 1 : 0;
 }
@@ -70,8 +77,8 @@ std::string Value::describe() const {
     case YAML::NodeType::Map:
       return "a mapping";
     case YAML::NodeType::Scalar:
-      return is_plain_scalar(node_) ? "'" + node_.Scalar() + "'"
-                                    : "the quoted string '" + node_.Scalar() + "'";
+      return is_plain_scalar(node_) ? quoted(node_.Scalar())
+                                    : "the quoted string " + quoted(node_.Scalar());
     default:
       return "nothing";
   }

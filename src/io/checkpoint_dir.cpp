@@ -108,6 +108,12 @@ void remove_stale_temporaries(const std::string& output_dir, const std::string& 
 
 }  // namespace
 
+void remove_stale_checkpoint_temporaries(const Comm& comm, const std::string& output_dir,
+                                         const std::string& case_name) {
+  if (comm.root()) remove_stale_temporaries(output_dir, case_name);
+  comm.barrier();
+}
+
 void discard_checkpoints_after(const Comm& comm, const std::string& output_dir,
                                const std::string& case_name, std::int64_t step) {
   if (comm.root()) {

@@ -1,6 +1,7 @@
 // CheckpointReader (checkpoint.hpp): opens a checkpoint's HDF5 file, checks
 // its format and reads its attributes and columns back, verifying checksums.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -65,9 +66,34 @@ const std::string& CheckpointReader::path() const {
 
 double CheckpointReader::real(const std::string& name) const {
   return collective(impl_->comm, impl_->path, [&] {
-    return read_scalar_attribute<double>(impl_->file->get(), name.c_str(), H5T_NATIVE_DOUBLE,
-                                         impl_->path);
+    const double v = read_scalar_attribute<double>(impl_->file->get(), name.c_str(),
+                                                   H5T_NATIVE_DOUBLE, impl_->path);
+    if (!std::isfinite(v))
+      throw std::runtime_error(fmt::format("attribute '{}' is {}, not a finite number", name, v));
+    return v;
   });
+}
+
+std::int64_t CheckpointReader::integer_in(const std::string& name, std::int64_t lo,
+                                          std::int64_t hi) const {
+  const std::int64_t v = integer(name);
+  if (v < lo || v > hi)
+    throw InputError(
+        impl_->path, 0, "",
+        fmt::format("attribute '{}' is {}, outside [{}, {}]: the checkpoint is corrupt", name, v,
+                    lo, hi));
+  return v;
+}
+
+double CheckpointReader::real_in(const std::string& name, double lo, double hi,
+                                 bool lo_open) const {
+  const double v = real(name);
+  if ((lo_open ? !(v > lo) : !(v >= lo)) || !(v <= hi))
+    throw InputError(
+        impl_->path, 0, "",
+        fmt::format("attribute '{}' is {}, outside {}{}, {}]: the checkpoint is corrupt", name, v,
+                    lo_open ? '(' : '[', lo, hi));
+  return v;
 }
 
 std::int64_t CheckpointReader::integer(const std::string& name) const {
@@ -94,6 +120,10 @@ std::vector<double> CheckpointReader::reals(const std::string& name) const {
     const hssize_t n = H5Sget_simple_extent_npoints(space.get());
     std::vector<double> v(static_cast<std::size_t>(std::max<hssize_t>(0, n)));
     if (!v.empty()) check(H5Aread(attr.get(), H5T_NATIVE_DOUBLE, v.data()), "read attribute", path);
+    for (const double x : v)
+      if (!std::isfinite(x))
+        throw std::runtime_error(
+            fmt::format("attribute '{}' holds {}, not a finite number", name, x));
     return v;
   });
 }
@@ -104,7 +134,10 @@ std::int64_t CheckpointReader::count(const std::string& group) const {
       throw std::runtime_error("the checkpoint has no particle group '" + group + "'");
     Handle g(H5Gopen2(impl_->file->get(), group.c_str(), H5P_DEFAULT), H5Gclose, "open group",
              impl_->path);
-    return read_scalar_attribute<std::int64_t>(g.get(), "count", H5T_NATIVE_INT64, impl_->path);
+    const std::int64_t n =
+        read_scalar_attribute<std::int64_t>(g.get(), "count", H5T_NATIVE_INT64, impl_->path);
+    if (n < 0) throw std::runtime_error(fmt::format("group '{}' has a count of {}", group, n));
+    return n;
   });
 }
 

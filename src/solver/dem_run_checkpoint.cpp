@@ -2,6 +2,7 @@
 // alone or coupled: the DEM particles and walls (dem_checkpoint.hpp), and
 // for coupled fibers the step whose drag impulse the next coupling pass
 // returns and the sub-step count of the work estimate.
+#include <limits>
 #include <memory>
 
 #include "dem_checkpoint.hpp"
@@ -28,8 +29,8 @@ std::function<void()> FiberModule<D>::read_checkpoint(CheckpointReader& r,
   double coupled_dt = 0;
   std::int64_t substeps = 0;
   if (coupled()) {
-    coupled_dt = r.real("coupled_dt");
-    substeps = r.integer("dem_substeps");
+    coupled_dt = r.real_in("coupled_dt", 0, std::numeric_limits<double>::max());
+    substeps = r.integer_in("dem_substeps", 0, std::numeric_limits<std::int64_t>::max() / 2);
   }
   return [this, fibers, coupled_dt, substeps] {
     restore_dem(dem_, coupled() ? host_->dec : *own_dec_, std::move(*fibers));

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -283,6 +284,7 @@ std::string Run<D>::write_checkpoint() {
 
 template <int D>
 std::string Run<D>::restart_from(const std::string& checkpoint) {
+  if (opt_.write_output) remove_stale_checkpoint_temporaries(comm_, opt_.output_dir, case_.name);
   const std::string path =
       restart_from_checkpoint(checkpoint, opt_.output_dir, case_.name, comm_, opt_.log,
                               [this](const std::string& p) { load_checkpoint(p); });
@@ -292,6 +294,46 @@ std::string Run<D>::restart_from(const std::string& checkpoint) {
               << std::flush;
   return path;
 }
+
+namespace {
+
+// The clock of a checkpoint, validated: a checkpoint is input, and a
+// restart deletes the snapshots and checkpoints after its step, so a step
+// edited to -5 must be refused, never trusted (issue 15, defect 7).
+void read_checkpoint_clock(const CheckpointReader& r, const std::string& path, Clock& clock,
+                           bool resin) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  clock.step = r.integer_in("step", 0, std::numeric_limits<std::int64_t>::max() / 2);
+  clock.time = r.real_in("time", 0, inf);
+  clock.dt.dt = r.real_in("dt", 0, inf, /*lo_open=*/true);
+  // The resin's limits (a fibers-only checkpoint has no dt_limit).
+  clock.dt.limit =
+      resin ? static_cast<DtLimit>(r.integer_in("dt_limit", static_cast<std::int64_t>(DtLimit::Cfl),
+                                                static_cast<std::int64_t>(DtLimit::Dem)))
+            : DtLimit::Dem;
+  if ((clock.step == 0) != (clock.time == 0))
+    throw InputError(path, 0, "",
+                     fmt::format("attributes 'step' ({}) and 'time' ({}) disagree: the checkpoint "
+                                 "is corrupt",
+                                 clock.step, clock.time));
+  // A checkpoint of the output directory is named after its step: a file
+  // that says otherwise would make the restart delete the wrong files.
+  const std::string name = std::filesystem::path(path).filename().string();
+  const auto stem_end = name.rfind(".ckpt.h5");
+  const auto underscore = name.rfind('_', stem_end);
+  if (stem_end != std::string::npos && underscore != std::string::npos &&
+      stem_end > underscore + 1) {
+    const std::string digits = name.substr(underscore + 1, stem_end - underscore - 1);
+    if (std::all_of(digits.begin(), digits.end(), [](char ch) { return ch >= '0' && ch <= '9'; }) &&
+        digits.size() < 19 && std::stoll(digits) != clock.step)
+      throw InputError(path, 0, "",
+                       fmt::format("the file is named for step {}, its attribute 'step' is {}: the "
+                                   "checkpoint is corrupt",
+                                   std::stoll(digits), clock.step));
+  }
+}
+
+}  // namespace
 
 // Reads everything first, then commits: a refused checkpoint leaves the run
 // as it was (so `latest` can try an older one). The commit rebuilds the
@@ -304,13 +346,19 @@ void Run<D>::load_checkpoint(const std::string& path) {
   std::vector<std::function<void()>> commits;
   for (auto& m : modules_) commits.push_back(m->read_checkpoint(r, path));
   Clock clock;
-  clock.step = r.integer("step");
-  clock.time = r.real("time");
-  clock.dt.dt = r.real("dt");
-  // The resin's limits (a fibers-only checkpoint has no dt_limit).
-  clock.dt.limit = resin_ ? static_cast<DtLimit>(r.integer("dt_limit")) : DtLimit::Dem;
-  const std::int64_t snapshots = r.integer("snapshots");
-  const std::int64_t last_snapshot = r.integer("last_snapshot_step");
+  read_checkpoint_clock(r, path, clock, resin_ != nullptr);
+  // The resumed output cadence counts the intervals up to the time one by
+  // one (resumed_output_cadence): a time of 1e300 would never end.
+  constexpr double kMaxIntervals = 1e9;
+  if (const std::optional<double> every = case_.output.every_time;
+      every && *every > 0 && clock.time / *every > kMaxIntervals)
+    throw InputError(path, 0, "",
+                     fmt::format("attribute 'time' ({} s) is more than {:g} output intervals "
+                                 "(output.every_time {} s): the checkpoint is corrupt",
+                                 clock.time, kMaxIntervals, *every));
+  // Every snapshot of the series is of a step up to this one (-1: none yet).
+  const std::int64_t snapshots = r.integer_in("snapshots", 0, clock.step + 1);
+  const std::int64_t last_snapshot = r.integer_in("last_snapshot_step", -1, clock.step);
 
   // Commit.
   for (const std::function<void()>& commit : commits)

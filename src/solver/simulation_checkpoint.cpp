@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -79,8 +80,9 @@ std::function<void()> ResinModule<D>::read_checkpoint(CheckpointReader& r,
   std::vector<double> face = r.reals("wall_face_pressure");
   if (scale.size() != walls_.size() || face.size() != walls_.size())
     throw InputError(path, 0, "", "the checkpoint's wall state does not match the case's walls");
-  const std::int64_t last_balance = r.integer("last_balance_step");
-  const std::int64_t repartitions = r.integer("repartitions");
+  constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max() / 2;
+  const std::int64_t last_balance = r.integer_in("last_balance_step", 0, kMax);
+  const std::int64_t repartitions = r.integer_in("repartitions", 0, kMax);
 
   return [this, loaded, build, scale = std::move(scale), face = std::move(face), last_balance,
           repartitions] {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "sphdem/config/case.hpp"
+#include "sphdem/core/errors.hpp"
 
 namespace sphdem {
 
@@ -21,6 +22,11 @@ Case load_case(const std::string& path, const std::vector<std::string>& override
 // default case name.
 Case load_case_from_string(const std::string& text, const std::string& name_for_errors,
                            const std::vector<std::string>& overrides = {});
+
+// An InputError about key `key` (dotted, e.g. "numerics.spacing") of a
+// loaded case, for checks made after loading (the size estimate): it names
+// the key's file and line, or "--set" when an override gave it.
+InputError input_error_at(const Case& c, const std::string& key, const std::string& message);
 
 // The case a run actually ran: the file's YAML with every `--set` override
 // applied and `name` filled in, as YAML text (comments are lost; a header

@@ -31,6 +31,11 @@ constexpr int kExitOther = 1;
 constexpr int kExitInput = 2;
 constexpr int kExitSimulation = 3;
 
+// `s` with control characters and bytes that are not UTF-8 written as \xNN:
+// a case file of binary junk must not echo raw bytes to the terminal.
+std::string printable(const std::string& s);
+
+// Its message is "file:line: key 'k': what", made printable.
 class InputError : public std::runtime_error {
  public:
   // file: the case file (or "--set"), line: 1-based (0 when unknown),

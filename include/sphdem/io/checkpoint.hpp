@@ -168,12 +168,18 @@ class CheckpointReader {
   CheckpointReader& operator=(const CheckpointReader&) = delete;
 
   const std::string& path() const;
+  // Scalar attributes. A real must be finite (every stored real is); a
+  // checkpoint is input: an attribute edited to garbage is refused.
   double real(const std::string& name) const;
   std::int64_t integer(const std::string& name) const;
+  // The same, refused (InputError naming the file and the attribute) when
+  // outside [lo, hi] (for reals (lo, hi] with `lo_open`).
+  std::int64_t integer_in(const std::string& name, std::int64_t lo, std::int64_t hi) const;
+  double real_in(const std::string& name, double lo, double hi, bool lo_open = false) const;
   std::string text(const std::string& name) const;
   std::vector<double> reals(const std::string& name) const;
 
-  // The total particle count of a group, and this rank's contiguous slice of
+  // The total particle count of a group (>= 0), and this rank's contiguous slice of
   // its rows in global-id order (a balanced share), checksums verified;
   // with `all_rows`, every row on every rank (for drivers that start from
   // the whole set, as DemDomain does).
@@ -209,6 +215,12 @@ std::string restart_from_checkpoint(const std::string& spec, const std::string& 
                                     const std::string& case_name, const Comm& comm,
                                     std::ostream* log,
                                     const std::function<void(const std::string&)>& load);
+
+// Collective: rank 0 deletes the temporary files of checkpoint writes that
+// never finished (a crash, an abort). A restart calls it first, so they go
+// even when the restart is then refused.
+void remove_stale_checkpoint_temporaries(const Comm& comm, const std::string& output_dir,
+                                         const std::string& case_name);
 
 // A restart at `step` abandons what the run did after it: rank 0 deletes
 // the checkpoints of later steps (a later `--restart latest` must not jump

@@ -25,6 +25,9 @@ class Comm {
   std::int64_t min(std::int64_t v) const;
   bool any(bool v) const;
   void barrier() const;
+  // Collective: how many ranks of this communicator share this rank's node
+  // (its memory): MPI_Comm_split_type with MPI_COMM_TYPE_SHARED.
+  int ranks_on_node() const;
 
  private:
   MPI_Comm comm_;

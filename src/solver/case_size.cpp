@@ -1,0 +1,167 @@
+// estimate_case_size (case_size.hpp): particle counts and memory from the
+// case's geometry, in doubles (a hostile case gives 1e300 or inf, never an
+// overflow), without building anything.
+#include "sphdem/solver/case_size.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "sphdem/geometry/geometry.hpp"
+#include "sphdem/particles/dem_particles.hpp"
+#include "sphdem/particles/particles.hpp"
+
+namespace sphdem {
+
+namespace {
+
+// Area (2D) or volume (3D) of a shape.
+double measure(const Shape& s, int dim) {
+  if (s.type == Shape::Type::Box) {
+    double m = 1;
+    for (int d = 0; d < dim; ++d) m *= s.hi[d] - s.lo[d];
+    return m;
+  }
+  double area2 = 0;
+  for (std::size_t i = 0; i < s.vertices.size(); ++i) {
+    const auto& a = s.vertices[i];
+    const auto& b = s.vertices[(i + 1) % s.vertices.size()];
+    area2 += a[0] * b[1] - b[0] * a[1];
+  }
+  return 0.5 * std::abs(area2);
+}
+
+// Area (volume) of the band of thickness t around a shape, where its wall
+// layers lie: the shape grown by t less the shape (a box grows along every
+// axis; a polygon by its perimeter times t plus square corners).
+double band(const Shape& s, int dim, double t) {
+  if (s.type == Shape::Type::Box) {
+    double grown = 1;
+    for (int d = 0; d < dim; ++d) grown *= s.hi[d] - s.lo[d] + 2 * t;
+    return grown - measure(s, dim);
+  }
+  double length = 0;
+  for (std::size_t i = 0; i < s.vertices.size(); ++i) {
+    const auto& a = s.vertices[i];
+    const auto& b = s.vertices[(i + 1) % s.vertices.size()];
+    length += std::hypot(b[0] - a[0], b[1] - a[1]);
+  }
+  return length * t + 4 * t * t;
+}
+
+// Bytes per particle of a field registry (every field, owned or ghost).
+template <class P>
+double registry_bytes() {
+  double bytes = 0;
+  P().for_each_field([&](const char*, const auto& field, FieldPolicy) {
+    bytes += sizeof(typename std::decay_t<decltype(field)>::value_type);
+  });
+  return bytes;
+}
+
+// Cells of a grid over `lo`..`hi` whose cells are at least `cell` wide.
+template <int D>
+double grid_cells(const Vec<D>& lo, const Vec<D>& hi, double cell) {
+  double n = 1;
+  for (int d = 0; d < D; ++d) n *= std::max(1.0, std::floor((hi[d] - lo[d]) / cell));
+  return n;
+}
+
+// Bytes per cell of a decomposition's grid on every rank: its owner (int)
+// and the work per cell (int64) that partitioning sums, twice over.
+constexpr double kBytesPerCell = 4 + 2 * 8;
+// The filling keeps each node's position twice (a list, then the particles).
+template <int D>
+constexpr double kFillBytes = 2.0 * D * sizeof(double);
+// Measured against the peak resident size of `sphdem check` (docs/case-file.md,
+// "Size estimate"): allocator slack, pair-loop packing, halo buffers.
+constexpr double kOverhead = 1.6;
+
+template <int D>
+CaseSize estimate(const Case& c, int ranks) {
+  CaseSize s;
+  const double dx = c.numerics.spacing;
+  const double p = std::max(1, ranks);
+  // Neighbours within the cut-off 2h (1 + skin), in spacings.
+  const double reach = 2 * c.numerics.h_over_spacing * (1 + c.numerics.neighbor_skin);
+  const double neighbours =
+      D == 2 ? std::numbers::pi * reach * reach : 4.0 / 3.0 * std::numbers::pi * std::pow(reach, 3);
+  double sph_setup = 0, sph_run = 0, dem_bytes = 0, dem_cells_bytes = 0;
+
+  if (!c.fill.empty()) {
+    for (const Shape& f : c.fill) s.resin += measure(f, D) / std::pow(dx, D);
+    for (const Shape& m : c.mold.shapes)
+      s.walls += band(m, D, c.mold.wall_layers * dx) / std::pow(dx, D);
+    const Box<D> dom = simulation_domain<D>(c);
+    s.lattice_nodes = 1;
+    for (int d = 0; d < D; ++d) s.lattice_nodes *= (dom.hi[d] - dom.lo[d]) / dx + 1;
+    s.cells = grid_cells<D>(dom.lo, dom.hi, reach * dx);
+    // Overlapping shapes count twice above; no more particles than nodes.
+    s.resin = std::min(s.resin, s.lattice_nodes);
+    s.walls = std::min(s.walls, s.lattice_nodes);
+    const double n = s.resin + s.walls;
+    const double per_particle = registry_bytes<SphParticles<D>>();
+    const double owned = n / p;
+    // A rank's ghosts: a layer `reach` spacings deep around its share.
+    const double ghosts =
+        p > 1 ? std::min(n - owned, 2.0 * D * std::pow(owned, (D - 1.0) / D) * reach) : 0.0;
+    sph_setup = n * (per_particle + kFillBytes<D>);
+    sph_run = (owned + ghosts) * (per_particle + neighbours * sizeof(std::int32_t)) +
+              owned * sizeof(std::size_t);
+  }
+  if (c.fibers) {
+    const FiberSettings& f = *c.fibers;
+    double fibers = f.count;
+    if (f.count == 0) {
+      const double d = f.diameter;
+      const double particle =
+          D == 2 ? std::numbers::pi * d * d / 4 : std::numbers::pi * d * d * d / 6;
+      fibers =
+          std::ceil(f.area_fraction * measure(f.region, D) / (particle * f.particles_per_fiber));
+    }
+    s.dem = fibers * f.particles_per_fiber;
+    // Every rank holds every fiber at set-up (and in a fibers-only run's
+    // pair search); its cell list has up to 16 cells per particle.
+    dem_bytes = s.dem * (registry_bytes<DemParticles<D>>() + 16 * 2 * sizeof(std::int32_t));
+    if (c.fill.empty()) {
+      // A fibers-only run's cells, about one diameter wide, over the mold
+      // and a margin of a tenth of it (src/solver/dem_run.cpp).
+      const Box<D> mold = mold_bounds<D>(c);
+      Vec<D> lo = mold.lo, hi = mold.hi;
+      const double margin = 0.1 * (hi - lo).maxCoeff();
+      lo.array() -= margin;
+      hi.array() += margin;
+      s.cells = grid_cells<D>(lo, hi, f.diameter);
+      dem_cells_bytes = s.cells * kBytesPerCell;
+    }
+  }
+  const double cell_bytes = c.fill.empty() ? 0.0 : s.cells * kBytesPerCell;
+  s.setup_bytes = kOverhead * (sph_setup + dem_bytes + cell_bytes + dem_cells_bytes);
+  s.run_bytes = kOverhead * (sph_run + dem_bytes + cell_bytes + dem_cells_bytes);
+  const double sph_part = std::max(sph_setup, sph_run) + cell_bytes;
+  if (!c.fibers || sph_part >= std::max(dem_bytes, dem_cells_bytes))
+    s.dominant_key = "numerics.spacing";
+  else if (dem_cells_bytes > dem_bytes)
+    s.dominant_key = "fibers.diameter";
+  else
+    s.dominant_key = c.fibers->count > 0 ? "fibers.count" : "fibers.area_fraction";
+  return s;
+}
+
+}  // namespace
+
+CaseSize estimate_case_size(const Case& c, int ranks) {
+  return c.dimension == 2 ? estimate<2>(c, ranks) : estimate<3>(c, ranks);
+}
+
+std::string format_bytes(double bytes) {
+  if (!std::isfinite(bytes)) return "more than any machine has";
+  constexpr double kMiB = 1024.0 * 1024.0, kGiB = 1024.0 * kMiB, kTiB = 1024.0 * kGiB;
+  if (bytes >= kTiB) return fmt::format("{:.3g} TiB", bytes / kTiB);
+  if (bytes >= kGiB) return fmt::format("{:.3g} GiB", bytes / kGiB);
+  return fmt::format("{:.3g} MiB", bytes / kMiB);
+}
+
+}  // namespace sphdem
