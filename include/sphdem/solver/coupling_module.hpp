@@ -34,6 +34,9 @@ class CouplingModule final : public Module<D> {
   // Over all ranks, the largest sum_f (V_r W_fr / S_f) K_f V_f / m_r of the
   // last pass [1/s] (coupling_loops.hpp).
   double resin_drag_rate() const { return resin_drag_rate_; }
+  // Over all ranks, the smallest m_f / (K_f V_f) of the last pass [s]
+  // (0 without drag): the fibers' drag time.
+  double fiber_drag_time() const { return fiber_drag_time_; }
   // The per-DEM-particle results (owned first).
   const CouplingState<D>& state() const { return cstate_; }
 
@@ -46,6 +49,7 @@ class CouplingModule final : public Module<D> {
   std::vector<double> resin_eps_;
   double momentum_residual_ = 0;
   double resin_drag_rate_ = 0;
+  double fiber_drag_time_ = 0;
 };
 
 // dt * (resin drag rate) below which the explicit reaction on the resin
