@@ -12,6 +12,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -135,6 +137,41 @@ TEST(CoupledWindow, ViscousResinSubsteps) {
   EXPECT_TRUE(e.substep_within_drag_time);
   EXPECT_LT(e.resin, 1.0);
   EXPECT_LT(e.fiber, 1.0);
+}
+
+// A restart continues a drag-limited run bitwise: the limits of the next
+// step come from the checkpoint (attributes resin_drag_rate and
+// fiber_drag_time), not from a coupling pass the restart does not repeat.
+TEST(CoupledWindow, RestartKeepsTheDragLimits) {
+  const Case c = load_case_from_string(shear_case(Shear{}), "shear.yaml");
+  const Comm self(MPI_COMM_SELF);
+  const std::string dir = "coupled_window_restart";
+  std::filesystem::remove_all(dir);
+  RunOptions opt = quiet();
+  opt.output_dir = dir;
+  const std::int64_t n = 30;
+  Simulation<2> straight(c, self, opt);
+  straight.advance(2 * n);
+  std::string path;
+  {
+    Simulation<2> half(c, self, opt);
+    half.advance(n);
+    path = half.write_checkpoint();
+  }
+  Simulation<2> again(c, self, opt);
+  again.restart_from(path);
+  again.advance(2 * n - again.step());
+  EXPECT_EQ(again.last_dt_limit(), DtLimit::Drag);
+  EXPECT_EQ(again.last_dt(), straight.last_dt());
+  EXPECT_EQ(again.time(), straight.time());
+  // Velocities by global id, resin and fibers.
+  const auto by_gid = [](const auto& ps) {
+    std::map<std::int64_t, Vec<2>> m;
+    for (std::size_t i = 0; i < ps.n_owned; ++i) m[ps.gid[i]] = ps.v[i];
+    return m;
+  };
+  EXPECT_TRUE(by_gid(again.particles()) == by_gid(straight.particles()));
+  EXPECT_TRUE(by_gid(again.dem()->particles()) == by_gid(straight.dem()->particles()));
 }
 
 // A lone particle sees 1 - (7/16) (d/h)^2 of its own volume in 2D
