@@ -4,8 +4,8 @@
 // viscous resin. The first three pushed the resin to tens to a thousand
 // times the wall speed within 300 steps while the drag exchange was
 // explicit at the resin's own step (measured before the drag limits: 30,
-// 990, 27 times); in the fourth the DEM sub-step would be 3.4 fiber drag
-// times, above the explicit bound 2. With the limits they stay below the
+// 990, 27 times); in the fourth, at the DEM's own sub-step, a fiber
+// particle left the mold at step 7. With the limits they stay below the
 // wall speed.
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -128,11 +128,14 @@ TEST(CoupledWindow, HeavyFiber) {
   EXPECT_LT(e.fiber, 1.0);
 }
 
-// A resin 1000 times as viscous: the fibers' drag time (5.6e-9 s) is
-// below the DEM's stable step (2.3e-8 s); the sub-steps follow it.
+// A resin 1000 times as viscous and a fiber 10 times lighter than the
+// resin: the fibers' drag time (5.6e-10 s) is far below the DEM's stable
+// step (7.3e-9 s) and the resin's drag-limited step holds several DEM
+// steps; the sub-steps follow the drag time.
 TEST(CoupledWindow, ViscousResinSubsteps) {
   Shear s;
   s.viscosity = 100;
+  s.density = 90;
   const Extremes e = run_shear(s, 200);
   EXPECT_TRUE(e.substep_within_drag_time);
   EXPECT_LT(e.resin, 1.0);
