@@ -175,6 +175,7 @@ TEST(CoupledWindow, RestartKeepsTheDragLimits) {
   };
   EXPECT_TRUE(by_gid(again.particles()) == by_gid(straight.particles()));
   EXPECT_TRUE(by_gid(again.dem()->particles()) == by_gid(straight.dem()->particles()));
+  std::filesystem::remove_all(dir);
 }
 
 // A lone particle sees 1 - (7/16) (d/h)^2 of its own volume in 2D
