@@ -7,3 +7,8 @@ sphdem_test(test_coupling SOURCES test_coupling.cpp RANKS 1 LABELS "unit;couplin
 # bitwise equal to one, fibers touching the mold's rectangle walls.
 sphdem_test(test_coupled_3d SOURCES test_coupled_3d.cpp RANKS 2 LABELS "mpi;coupling"
             TIMEOUT 300)
+
+# The coupled model's stable window (docs/physics.md "Coupling"): a neutrally
+# buoyant fiber in a Mach 0.1 shear cell, and a resin spacing finer than
+# the fiber's diameter, run stably or are refused by `sphdem check`.
+sphdem_test(test_coupled_window SOURCES test_coupled_window.cpp RANKS 1 LABELS "unit;coupling")

@@ -214,7 +214,8 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   };
   EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::State), 8u * 5);  // x, v, omega
   EXPECT_EQ(dem_bytes(DemParticles<3>(), DemGroup::State), 8u * 9);
-  EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::Coupling), 8u * 3);  // shepard_sum, mean_drag
+  // shepard_sum, drag_coeff (the resin drag rate), mean_drag
+  EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::Coupling), 8u * 4);
   EXPECT_EQ(sph_output_fields(),
             (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "pressure",
                                       "acceleration", "shear_rate"}));

@@ -18,6 +18,7 @@
 #include "sphdem/core/fault.hpp"
 #include "sphdem/parallel/agreement.hpp"
 #include "sphdem/parallel/comm.hpp"
+#include "sphdem/solver/coupled_window.hpp"
 #include "sphdem/solver/dem_run.hpp"
 #include "sphdem/solver/run.hpp"
 #include "sphdem/solver/solver.hpp"
@@ -227,6 +228,7 @@ int check_case(const Case& c, const Comm& comm, const CaseSize& size) {
         "  with the fibers and the coupling: about {:.0f} s on one core\n",
         sim.placement().fibers, sim.dem()->global_count(), 100 * sim.placement().fraction,
         sim.dem_dt(), sub, 2.2 * seconds);
+    print_coupled_window(coupled_window<D>(c, sim, ts.dt), c, std::cout);
   }
   print_estimate(size, comm);
   print_settings(c);

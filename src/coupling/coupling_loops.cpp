@@ -136,10 +136,12 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
 // particles rather than by the whole resin.
 template <int D>
 Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
-                         SphParticles<D>& sph, std::vector<double>& resin_void_fraction) {
+                         SphParticles<D>& sph, std::vector<double>& resin_void_fraction,
+                         double& resin_drag_rate) {
   const WendlandC2<D> kernel(s.h);
   const double support = kernel.support();
   resin_void_fraction.assign(sph.n_owned, 1.0);
+  resin_drag_rate = 0;
   Vec<D> total = Vec<D>::Zero();
   if (dem.size() == 0) return total;
   // Owned resin particles near the fibers: they are the ones that receive.
@@ -161,6 +163,8 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
   });
   std::vector<Vec<D>> force(resin.size(), Vec<D>::Zero());
   std::vector<double> phi(resin.size(), 0.0), phi_rate(resin.size(), 0.0), vol(resin.size());
+  // sum_f (V_r W_fr / S_f) K_f V_f: the drag coefficient r is held by [kg/s].
+  std::vector<double> held(resin.size(), 0.0);
   std::vector<std::uint8_t> touched(resin.size(), 0);
   for (std::size_t k = 0; k < resin.size(); ++k) {
     const auto r = static_cast<std::size_t>(resin[k]);
@@ -172,6 +176,8 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
     const double vol_f = dem_volume(dem, f);
     // Each neighbour r takes V_r W_fr of -F_mean / S_f (reaction.hpp).
     const Vec<D> share = terms::reaction_per_weight<D>(dem.shepard_sum[f], dem.mean_drag[f]);
+    const double coeff_per_weight =
+        dem.shepard_sum[f] > 0.0 ? dem.drag_coeff[f] / dem.shepard_sum[f] : 0.0;
     cells.for_each_near(dem.x[f], [&](std::int32_t k) {
       const auto ku = static_cast<std::size_t>(k);
       const auto r = static_cast<std::size_t>(resin[ku]);
@@ -181,6 +187,7 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
       const double dist = std::sqrt(dist2);
       const double w = kernel.w(dist);
       force[ku] += (vol[ku] * w) * share;
+      held[ku] += (vol[ku] * w) * coeff_per_weight;
       phi[ku] += terms::solid_fraction<D>(kernel, vol_f, dist);
       phi_rate[ku] +=
           terms::solid_fraction_rate(vol_f, kernel.f(dist), (sph.v[r] - dem.v[f]).dot(d));
@@ -193,6 +200,7 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
     // 2D: the drag is per depth `thickness`, the resin's mass per metre.
     sph.a[r] += force[k] / (s.thickness * sph.mass[r]);
     total += force[k];
+    resin_drag_rate = std::max(resin_drag_rate, held[k] / (s.thickness * sph.mass[r]));
     const double eps = terms::void_fraction(phi[k], s.drag.eps_min);
     resin_void_fraction[r] = eps;
     if (s.void_fraction_in_continuity) {
@@ -208,8 +216,8 @@ template void drag_on_fibers<2>(const CouplingSettings&, const SphParticles<2>&,
 template void drag_on_fibers<3>(const CouplingSettings&, const SphParticles<3>&, DemParticles<3>&,
                                 CouplingState<3>&, double);
 template Vec<2> reaction_on_resin<2>(const CouplingSettings&, const DemParticles<2>&,
-                                     SphParticles<2>&, std::vector<double>&);
+                                     SphParticles<2>&, std::vector<double>&, double&);
 template Vec<3> reaction_on_resin<3>(const CouplingSettings&, const DemParticles<3>&,
-                                     SphParticles<3>&, std::vector<double>&);
+                                     SphParticles<3>&, std::vector<double>&, double&);
 
 }  // namespace sphdem

@@ -1,7 +1,11 @@
 // The coupling module (coupling_module.hpp).
 #include "sphdem/solver/coupling_module.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include "sphdem/io/checkpoint.hpp"
 
 namespace sphdem {
 
@@ -28,7 +32,15 @@ void CouplingModule<D>::rates() {
   DemParticles<D>& dem = domain.particles();
   drag_on_fibers<D>(coupling_, ps, dem, cstate_, fibers_.coupled_dt());
   domain.forward(DemGroup::Coupling);
-  const Vec<D> reaction = reaction_on_resin<D>(coupling_, dem, ps, resin_eps_);
+  double rate = 0;
+  const Vec<D> reaction = reaction_on_resin<D>(coupling_, dem, ps, resin_eps_, rate);
+  resin_drag_rate_ = ctx_.comm.max(rate);
+  double drag_time = std::numeric_limits<double>::infinity();
+  for (std::size_t f = 0; f < dem.n_owned; ++f)
+    if (dem.drag_coeff[f] > 0) drag_time = std::min(drag_time, dem.mass[f] / dem.drag_coeff[f]);
+  drag_time = ctx_.comm.min(drag_time);
+  fiber_drag_time_ = std::isfinite(drag_time) ? drag_time : 0.0;
+  fibers_.limit_substep(fiber_drag_time_);
   // Diagnostics: total drag + total reaction, which must vanish.
   std::vector<double> sums(2 * D + 1, 0.0);
   for (std::size_t f = 0; f < dem.n_owned; ++f) {
@@ -42,6 +54,32 @@ void CouplingModule<D>::rates() {
     residual +=
         std::pow(sums[static_cast<std::size_t>(k)] + sums[static_cast<std::size_t>(D + k)], 2);
   momentum_residual_ = sums[2 * D] > 0 ? std::sqrt(residual) / sums[2 * D] : 0.0;
+}
+
+template <int D>
+std::optional<TimeStep> CouplingModule<D>::stable_dt() {
+  if (!(resin_drag_rate_ > 0)) return std::nullopt;
+  return TimeStep{kResinDragStep / resin_drag_rate_, DtLimit::Drag};
+}
+
+// The limit of the next step comes from the last pass, which a restart
+// does not repeat.
+template <int D>
+void CouplingModule<D>::write_checkpoint(CheckpointWriter& w) {
+  w.attribute("resin_drag_rate", resin_drag_rate_);
+  w.attribute("fiber_drag_time", fiber_drag_time_);
+}
+
+template <int D>
+std::function<void()> CouplingModule<D>::read_checkpoint(CheckpointReader& r,
+                                                         const std::string& /*path*/) {
+  const double rate = r.real("resin_drag_rate");
+  const double drag_time = r.real("fiber_drag_time");
+  return [this, rate, drag_time] {
+    resin_drag_rate_ = rate;
+    fiber_drag_time_ = drag_time;
+    fibers_.limit_substep(drag_time);
+  };
 }
 
 template class CouplingModule<2>;

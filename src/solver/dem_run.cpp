@@ -155,7 +155,8 @@ void FiberModule<D>::substep(double dt) {
   ScopedPhase t(ctx_.timers, Phase::Dem);
   const double t0 = ctx_.clock.time - dt;
   move_walls(t0 + 0.5 * dt);
-  substeps_ = static_cast<std::int64_t>(std::ceil(dt / dem_dt_ * (1 - 1e-12)));
+  const double sub = drag_time_ > 0 ? std::min(dem_dt_, kFiberDragStep * drag_time_) : dem_dt_;
+  substeps_ = static_cast<std::int64_t>(std::ceil(dt / sub * (1 - 1e-12)));
   substeps_ = std::max<std::int64_t>(substeps_, 1);
   dem_->advance(substeps_, dt / static_cast<double>(substeps_));
   dem_->forward(DemGroup::State);

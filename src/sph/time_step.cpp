@@ -83,6 +83,8 @@ const char* to_string(DtLimit l) {
       return "fixed";
     case DtLimit::Dem:
       return "dem";
+    case DtLimit::Drag:
+      return "drag";
   }
   return "?";
 }

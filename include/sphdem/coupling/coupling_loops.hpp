@@ -49,9 +49,15 @@ template <int D>
 void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemParticles<D>& dem,
                     CouplingState<D>& st, double dt);
 
-// Reads the DEM particles' mean_drag and shepard_sum, ghosts' included.
+// Reads the DEM particles' mean_drag, shepard_sum and drag_coeff, ghosts'
+// included. resin_drag_rate: the largest, over the owned resin, of
+// sum_f (V_r W_fr / S_f) K_f V_f / m_r [1/s], the rate at which the
+// reaction relaxes a resin particle's velocity towards the fibers' (the
+// resin side of the exchange is explicit: docs/physics.md "The stable
+// window").
 template <int D>
 Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
-                         SphParticles<D>& sph, std::vector<double>& resin_void_fraction);
+                         SphParticles<D>& sph, std::vector<double>& resin_void_fraction,
+                         double& resin_drag_rate);
 
 }  // namespace sphdem

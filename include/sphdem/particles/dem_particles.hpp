@@ -134,7 +134,7 @@ enum class DemGroup : std::uint8_t { State = 0, Coupling = 1 };
   /* (drag_velocity - v), coefficient K V_f [kg/s] and Shepard resin velocity */                 \
   /* [m/s] held from the last coupling pass; the impulse [N s] it gave since */                  \
   /* then goes back to the resin at the next pass. */                                            \
-  X(double, drag_coeff, kMigrate | kCheckpoint)                                                  \
+  X(double, drag_coeff, kMigrate | kCheckpoint | in_group(DemGroup::Coupling))                   \
   X(Vec<D>, drag_velocity, kMigrate | kCheckpoint)                                               \
   X(Vec<D>, drag_force, kMigrate | kCheckpoint) /* of the last force evaluation [N] */           \
   X(Vec<D>, drag_impulse, kMigrate | kCheckpoint)                                                \

@@ -18,13 +18,25 @@ class CouplingModule final : public Module<D> {
   CouplingModule(const RunContext<D>& ctx, ResinModule<D>& resin, FiberModule<D>& fibers);
 
   const char* name() const override { return "coupling"; }
+  // The resin's side of the drag exchange is explicit: the step is kept
+  // below kResinDragStep / (the largest resin drag rate of the last pass),
+  // docs/physics.md "The stable window".
+  std::optional<TimeStep> stable_dt() override;
   void rates() override;
+  void write_checkpoint(CheckpointWriter& w) override;
+  std::function<void()> read_checkpoint(CheckpointReader& r, const std::string& path) override;
 
   // Per owned resin particle: the void fraction of the last pass.
   const std::vector<double>& resin_void_fraction() const { return resin_eps_; }
   // Momentum check of the last pass, over all ranks: |sum of the drags +
   // sum of the reactions| / sum of |drag| (0 without drag).
   double momentum_residual() const { return momentum_residual_; }
+  // Over all ranks, the largest sum_f (V_r W_fr / S_f) K_f V_f / m_r of the
+  // last pass [1/s] (coupling_loops.hpp).
+  double resin_drag_rate() const { return resin_drag_rate_; }
+  // Over all ranks, the smallest m_f / (K_f V_f) of the last pass [s]
+  // (0 without drag): the fibers' drag time.
+  double fiber_drag_time() const { return fiber_drag_time_; }
   // The per-DEM-particle results (owned first).
   const CouplingState<D>& state() const { return cstate_; }
 
@@ -36,6 +48,13 @@ class CouplingModule final : public Module<D> {
   CouplingState<D> cstate_;
   std::vector<double> resin_eps_;
   double momentum_residual_ = 0;
+  double resin_drag_rate_ = 0;
+  double fiber_drag_time_ = 0;
 };
+
+// dt * (resin drag rate) below which the explicit reaction on the resin
+// stays stable (measured on the shear cell of tests/test_coupled_window.cpp,
+// docs/physics.md "The stable window").
+inline constexpr double kResinDragStep = 1.0;
 
 }  // namespace sphdem

@@ -39,6 +39,10 @@ struct FiberHost {
   double halo_range;
 };
 
+// A DEM sub-step of a coupled run is at most this times the fibers' drag
+// time (explicit drag: stable below 2; docs/physics.md "The stable window").
+inline constexpr double kFiberDragStep = 1.0;
+
 template <int D>
 class FiberModule final : public Module<D> {
  public:
@@ -70,6 +74,10 @@ class FiberModule final : public Module<D> {
   // drag impulse the next coupling pass returns).
   std::int64_t substeps() const { return substeps_; }
   double coupled_dt() const { return coupled_dt_; }
+  // Coupled: the sub-steps also stay below the fibers' drag time m_f/(K V_f)
+  // (the drag is explicit in the particle's velocity; docs/physics.md "The
+  // stable window"). Set by the coupling pass; 0: no limit.
+  void limit_substep(double drag_time) { drag_time_ = drag_time; }
 
  private:
   // The DEM walls of moving walls at the motions' velocity at time t.
@@ -85,6 +93,7 @@ class FiberModule final : public Module<D> {
   double dem_dt_ = 0;
   std::int64_t substeps_ = 0;
   double coupled_dt_ = 0;
+  double drag_time_ = 0;
 };
 
 }  // namespace sphdem

@@ -110,7 +110,7 @@ LocalExtremes local_extremes(const SphParticles<D>& ps);
 // Adaptive time step (docs/physics.md): the smallest of the CFL, force and
 // viscous limits, and which one binds.
 // Dem: the stable DEM step of a fibers-only run (run.hpp).
-enum class DtLimit { Cfl, Force, Viscous, Fixed, Dem };
+enum class DtLimit { Cfl, Force, Viscous, Fixed, Dem, Drag };
 const char* to_string(DtLimit l);
 struct TimeStep {
   double dt = 0;
