@@ -27,13 +27,15 @@ int key_line(const std::string& text, const std::string& key) {
       const std::string part = key.substr(start, dot == std::string::npos ? dot : dot - start);
       if (!node.IsMap()) return 0;
       YAML::Node next;
+      bool found = false;  // a default Node is a defined null: test by flag
       for (auto it = node.begin(); it != node.end(); ++it) {
         if (it->first.IsScalar() && it->first.Scalar() == part) {
           line = it->first.Mark().line + 1;
           next = it->second;
+          found = true;
         }
       }
-      if (!next) return 0;
+      if (!found) return 0;
       node = next;
       if (dot == std::string::npos) return line;
       start = dot + 1;

@@ -110,6 +110,8 @@ LocalExtremes local_extremes(const SphParticles<D>& ps);
 // Adaptive time step (docs/physics.md): the smallest of the CFL, force and
 // viscous limits, and which one binds.
 // Dem: the stable DEM step of a fibers-only run (run.hpp).
+// New limits go at the end (checkpoints store the number; the restart
+// accepts up to the last one, src/solver/run.cpp).
 enum class DtLimit { Cfl, Force, Viscous, Fixed, Dem, Drag };
 const char* to_string(DtLimit l);
 struct TimeStep {
