@@ -6,7 +6,6 @@
 #include <fstream>
 #include <map>
 #include <ostream>
-#include <regex>
 #include <sstream>
 #include <stdexcept>
 
@@ -28,26 +27,88 @@ std::vector<std::string> split_csv_line(const std::string& line) {
 
 }  // namespace
 
-// The lines of print_run_banner and run_case (src/app/commands.cpp).
+// The lines of print_run_banner and run_case (src/app/commands.cpp). Parsed
+// by hand: std::regex trips GCC 12's -Wmaybe-uninitialized in the sanitize
+// build.
+namespace {
+
+bool is_digit(char ch) {
+  return ch >= '0' && ch <= '9';
+}
+
+// The number that ends just before `end` in `text`, or -1.
+std::int64_t number_before(const std::string& text, std::size_t end) {
+  std::size_t begin = end;
+  while (begin > 0 && is_digit(text[begin - 1])) --begin;
+  return begin == end ? -1 : to_int(text.substr(begin, end - begin));
+}
+
+// The number that starts at `begin` in `text`, or -1.
+std::int64_t number_at(const std::string& text, std::size_t begin) {
+  std::size_t end = begin;
+  while (end < text.size() && is_digit(text[end])) ++end;
+  return begin == end ? -1 : to_int(text.substr(begin, end - begin));
+}
+
+// "..., R resin + W wall particles": R and W.
+bool find_resin(const std::string& text, RunCounts& c) {
+  const std::string mid = " resin + ";
+  for (std::size_t at = text.find(mid); at != std::string::npos; at = text.find(mid, at + 1)) {
+    const std::int64_t resin = number_before(text, at);
+    const std::int64_t wall = number_at(text, at + mid.size());
+    if (resin < 0 || wall < 0) continue;
+    if (text.compare(at + mid.size() + std::to_string(wall).size(), 15, " wall particles") != 0)
+      continue;
+    c.resin = resin;
+    c.wall = wall;
+    return true;
+  }
+  return false;
+}
+
+// "N fibers (M DEM particles" or "N (M DEM particles": N and M.
+bool find_fibers(const std::string& text, RunCounts& c) {
+  const std::string tail = " DEM particles";
+  for (std::size_t at = text.find(tail); at != std::string::npos; at = text.find(tail, at + 1)) {
+    const std::int64_t dem = number_before(text, at);
+    if (dem < 0) continue;
+    std::size_t open = at - std::to_string(dem).size();
+    if (open < 2 || text[open - 1] != '(' || text[open - 2] != ' ') continue;
+    std::size_t end = open - 2;
+    const std::string word = " fibers";
+    if (end >= word.size() && text.compare(end - word.size(), word.size(), word) == 0)
+      end -= word.size();
+    const std::int64_t fibers = number_before(text, end);
+    if (fibers < 0) continue;
+    c.fibers = fibers;
+    c.dem = dem;
+    return true;
+  }
+  return false;
+}
+
+// A line "done: S steps ...": S.
+bool find_done(const std::string& text, RunCounts& c) {
+  const std::string head = "done: ";
+  for (std::size_t at = text.find(head); at != std::string::npos; at = text.find(head, at + 1)) {
+    if (at != 0 && text[at - 1] != '\n') continue;
+    const std::int64_t steps = number_at(text, at + head.size());
+    if (steps < 0) continue;
+    if (text.compare(at + head.size() + std::to_string(steps).size(), 6, " steps") != 0) continue;
+    c.steps = steps;
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 RunCounts parse_run_log(const std::string& text) {
-  static const std::regex resin(R"(\), (\d+) resin \+ (\d+) wall particles)");
-  static const std::regex fibers(R"((?:fibers: |, )(\d+) (?:fibers )?\((\d+) DEM particles)");
-  static const std::regex done(R"((^|\n)done: (\d+) steps)");
   RunCounts c;
-  std::smatch m;
-  const bool has_resin = std::regex_search(text, m, resin);
-  if (has_resin) {
-    c.resin = to_int(m[1]);
-    c.wall = to_int(m[2]);
-  }
-  const bool has_fibers = std::regex_search(text, m, fibers);
-  if (has_fibers) {
-    c.fibers = to_int(m[1]);
-    c.dem = to_int(m[2]);
-  }
+  const bool has_resin = find_resin(text, c);
+  const bool has_fibers = find_fibers(text, c);
   if (!has_resin && !has_fibers) throw std::runtime_error("no 'sphdem run' banner in the log");
-  if (!std::regex_search(text, m, done)) throw std::runtime_error("no 'done:' line in the log");
-  c.steps = to_int(m[2]);
+  if (!find_done(text, c)) throw std::runtime_error("no 'done:' line in the log");
   return c;
 }
 
