@@ -205,9 +205,9 @@ DemSystem<2> make_2d(const Options& o, Setup& s) {
 template <int D>
 std::vector<std::int64_t> particles_per_cell(const Decomposition<D>& dec,
                                              const DemParticles<D>& ps) {
-  std::vector<std::int64_t> work(static_cast<std::size_t>(dec.grid().cells()), 0);
+  std::vector<std::int64_t> work(static_cast<std::size_t>(dec.blocks()), 0);
   for (std::size_t i = 0; i < ps.n_owned; ++i)
-    ++work[static_cast<std::size_t>(dec.grid().cell_of(ps.x[i]))];
+    ++work[static_cast<std::size_t>(dec.block_of(ps.x[i]))];
   return work;
 }
 

@@ -128,9 +128,9 @@ RunResult<D> run_domain(const Comm& comm, int fibers, double strength, std::int6
   const double dt = sys.stable_dt();
   Box<D> box{Vec<D>::Constant(-1e-3), Vec<D>::Constant(7e-3)};
   Decomposition<D> dec(comm, box, {false, false, false}, DemDomain<D>::reach(kR, kR));
-  std::vector<std::int64_t> work(static_cast<std::size_t>(dec.grid().cells()), 0);
+  std::vector<std::int64_t> work(static_cast<std::size_t>(dec.blocks()), 0);
   for (std::size_t i = 0; i < sys.particles.n_owned; ++i)
-    ++work[static_cast<std::size_t>(dec.grid().cell_of(sys.particles.x[i]))];
+    ++work[static_cast<std::size_t>(dec.block_of(sys.particles.x[i]))];
   dec.partition(work, true);
   DemDomain<D> dom(dec, sys.params, sys.walls, std::move(sys.particles));
   RunResult<D> r;

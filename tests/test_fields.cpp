@@ -78,7 +78,7 @@ TestParticles all_particles() {
 Decomposition<2> decomposition(const Comm& comm) {
   const Box<2> box{Vec<2>(0, 0), Vec<2>(1, 1)};
   Decomposition<2> dec(comm, box, {true, false, false}, 0.1);
-  dec.partition(std::vector<std::int64_t>(static_cast<std::size_t>(dec.grid().cells()), 1), true);
+  dec.partition(std::vector<std::int64_t>(static_cast<std::size_t>(dec.blocks()), 1), true);
   return dec;
 }
 

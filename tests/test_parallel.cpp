@@ -253,6 +253,21 @@ TEST(RankIndependence, Sloshing3D) {
                              300);
 }
 
+// Coarse top-level cells (docs/parallel.md, "Top-level cells"): blocks of
+// several cells (parallel.min_top_cells=1 leaves 64 per rank), partitioned
+// and re-partitioned, give the same bits as one rank.
+TEST(RankIndependence, TaylorGreenOnCoarseTopCells) {
+  expect_rank_independent<2>(load("validation/taylor_green.yaml", {"parallel.min_top_cells=1"}),
+                             100);
+}
+
+TEST(RankIndependence, Sloshing3DOnCoarseTopCells) {
+  expect_rank_independent<3>(load("validation/hydrostatic_3d.yaml",
+                                  {"initial_velocity=[0.05, 0.02, 0]", "parallel.balance_every=20",
+                                   "parallel.imbalance_threshold=0", "parallel.min_top_cells=1"}),
+                             100);
+}
+
 // ------------------------------------------------------- conservation
 
 TEST(Conservation, CountIdsAndMassThroughEveryRepartition) {

@@ -37,6 +37,9 @@ struct RunArgs {
   std::int64_t checkpoint_every = 0;  // 0: the case's checkpoint.every_steps
   bool overwrite = false;
   std::string max_memory;  // --max-memory; empty: the node's MemAvailable
+  // `check` only: estimate for this many ranks, against this much per rank.
+  int estimate_ranks = 0;  // 0: the ranks it runs on
+  std::string memory_per_rank;
 };
 
 // After a stop request (SIGTERM, SIGUSR1) the run wrote a checkpoint: say
@@ -101,11 +104,25 @@ void print_warnings(const Case& c, const Comm& comm) {
 
 // `sphdem check`: the estimate made before anything was built (the memory
 // guard, memory_guard.hpp), beside the counts of the built case.
-void print_estimate(const CaseSize& s, const Comm& comm) {
+void print_estimate(const CaseSize& s, int ranks) {
   std::cout << fmt::format(
       "  memory: about {} per rank at {} rank(s) (estimated before building, from about {:.3g} "
-      "resin, {:.3g} wall and {:.3g} DEM particles)\n",
-      format_bytes(s.bytes_per_rank()), comm.size(), s.resin, s.walls, s.dem);
+      "resin, {:.3g} wall and {:.3g} DEM particles; set-up {}, running {}{})\n",
+      format_bytes(s.bytes_per_rank()), ranks, s.resin, s.walls, s.dem, format_bytes(s.setup_bytes),
+      format_bytes(s.run_bytes),
+      s.setup_bytes >= s.run_bytes
+          ? ": the peak is at set-up, where every rank builds the whole case"
+          : "");
+}
+
+// `sphdem check --ranks P`: the estimate for P ranks, nothing built (the
+// case may be far too big for this machine).
+int print_rank_estimate(const Case& c, const CaseSize& s, int ranks, const Comm& comm) {
+  if (!comm.root()) return 0;
+  std::cout << fmt::format("case '{}' ({}D) is valid (estimated for {} ranks, not built)\n", c.name,
+                           c.dimension, ranks);
+  print_estimate(s, ranks);
+  return 0;
 }
 
 RunOptions run_options(const Case& c, const RunArgs& a) {
@@ -136,7 +153,7 @@ int check_dem_case(const Case& c, const Comm& comm, const CaseSize& size) {
       c.name, D, run.dem().global_count(), run.placement().fibers, 100 * run.placement().fraction,
       run.dem().walls().size(), run.dt(), c.fibers->dt_safety, c.numerics.end_time, steps,
       n * steps / kDemParticleStepsPerSecond, kDemParticleStepsPerSecond);
-  print_estimate(size, comm);
+  print_estimate(size, comm.size());
   print_settings(c);
   return 0;
 }
@@ -230,7 +247,7 @@ int check_case(const Case& c, const Comm& comm, const CaseSize& size) {
         sim.dem_dt(), sub, 2.2 * seconds);
     print_coupled_window(coupled_window<D>(c, sim, ts.dt), c, std::cout);
   }
-  print_estimate(size, comm);
+  print_estimate(size, comm.size());
   print_settings(c);
   return 0;
 }
@@ -274,6 +291,14 @@ int dispatch(int argc, char** argv) {
   check_cmd->add_option("case", check.case_file, "Case file (YAML)")->required();
   check_cmd->add_option("--set", check.sets, "Override a case key")->allow_extra_args(false);
   check_cmd->add_option("--max-memory", check.max_memory, memory_help);
+  check_cmd
+      ->add_option("--ranks", check.estimate_ranks,
+                   "Estimate the peak memory per rank for this many ranks and stop (nothing is "
+                   "built); exit 2 if it does not fit --memory-per-rank")
+      ->check(CLI::PositiveNumber);
+  check_cmd->add_option("--memory-per-rank", check.memory_per_rank,
+                        "Memory one rank may use, e.g. 4G (default: the node's MemAvailable, or "
+                        "--max-memory, divided by the ranks on the node)");
 
   bool markdown = false;
   CLI::App* keys_cmd =
@@ -305,12 +330,16 @@ int dispatch(int argc, char** argv) {
                      "give it first on the command line: sphdem scaling CASE ...");
   if (run_cmd->parsed()) install_stop_signals();
   const RunArgs& a = run_cmd->parsed() ? run : check;
-  const std::optional<double> max_memory =
-      a.max_memory.empty() ? std::nullopt : std::optional<double>(parse_memory_size(a.max_memory));
+  MemoryLimits limits;
+  if (!a.max_memory.empty()) limits.node = parse_memory_size(a.max_memory);
+  if (!a.memory_per_rank.empty())
+    limits.per_rank = parse_memory_size(a.memory_per_rank, "--memory-per-rank");
+  if (a.estimate_ranks > 0) limits.ranks = a.estimate_ranks;
   const Case c = load_case_on_every_rank(comm, a);
   print_warnings(c, comm);
   // Before anything is built: a case too big for the node is refused.
-  const CaseSize size = check_case_fits(c, comm, max_memory);
+  const CaseSize size = check_case_fits(c, comm, limits);
+  if (limits.ranks) return print_rank_estimate(c, size, *limits.ranks, comm);
   if (run_cmd->parsed())
     return c.dimension == 2 ? run_case<2>(c, a, comm) : run_case<3>(c, a, comm);
   if (c.fill.empty())  // fibers only (the loader requires one of the two)

@@ -2,10 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
@@ -13,7 +15,7 @@
 
 namespace sphdem::app {
 
-double parse_memory_size(const std::string& text) {
+double parse_memory_size(const std::string& text, const std::string& option) {
   std::size_t used = 0;
   double v = 0;
   try {
@@ -35,7 +37,7 @@ double parse_memory_size(const std::string& text) {
     }
   }
   if (used == 0 || !unit.empty() || !(v > 0) || !std::isfinite(v))
-    throw InputError("--max-memory", 0, "",
+    throw InputError(option, 0, "",
                      "expected a size such as 16G, 512M or a number of bytes, got '" + text + "'");
   return v * scale;
 }
@@ -52,20 +54,40 @@ std::optional<double> available_memory() {
   return std::nullopt;
 }
 
-CaseSize check_case_fits(const Case& c, const Comm& comm, std::optional<double> max_memory) {
-  const CaseSize size = estimate_case_size(c, comm.size());
-  const int sharing = comm.ranks_on_node();
-  const std::optional<double> limit = max_memory ? max_memory : available_memory();
-  const double need = size.bytes_per_rank() * sharing;
+int local_ranks(const Comm& comm, int ranks) {
+  const int here = comm.ranks_on_node();
+  if (ranks == comm.size()) return here;
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  return std::clamp(std::max(here, cores), 1, std::max(ranks, 1));
+}
+
+CaseSize check_case_fits(const Case& c, const Comm& comm, const MemoryLimits& limits) {
+  const int ranks = limits.ranks.value_or(comm.size());
+  const CaseSize size = estimate_case_size(c, ranks);
+  const int sharing = local_ranks(comm, ranks);
+  std::optional<double> per_rank = limits.per_rank;
+  std::string source = "of --memory-per-rank";
+  if (!per_rank) {
+    const std::optional<double> node = limits.node ? limits.node : available_memory();
+    if (node) per_rank = *node / sharing;
+    source = fmt::format(
+        "{} divided by {} rank(s) on the node",
+        limits.node ? "of --max-memory" : "available (MemAvailable in /proc/meminfo)", sharing);
+  }
+  const double need = size.bytes_per_rank();
   std::optional<std::string> error;
   // NaN and inf (a spacing of 1e-300) never fit.
-  if (limit && !(need <= *limit)) {
+  if (per_rank && !(need <= *per_rank)) {
     error = fmt::format(
-        "the case needs about {} on this node ({} rank(s) of {}; about {:.3g} resin, {:.3g} wall "
-        "and {:.3g} DEM particles), more than the {} {}: coarsen it or use more nodes",
-        format_bytes(need), sharing, format_bytes(size.bytes_per_rank()), size.resin, size.walls,
-        size.dem, format_bytes(*limit),
-        max_memory ? "of --max-memory" : "available (MemAvailable in /proc/meminfo)");
+        "the case needs about {} per rank at {} rank(s) ({} for the {} rank(s) on this node; "
+        "about {:.3g} resin, {:.3g} wall and {:.3g} DEM particles; {}), more than the {} per "
+        "rank {}: coarsen it or use more nodes",
+        format_bytes(need), ranks, format_bytes(need * sharing), sharing, size.resin, size.walls,
+        size.dem,
+        size.setup_bytes >= size.run_bytes
+            ? "the peak is at set-up, where every rank builds the whole case"
+            : "the peak is while running",
+        format_bytes(*per_rank), source);
   }
   // Nodes differ in free memory: the lowest failing rank speaks for all.
   if (const std::optional<RankFailure> failed = first_failure(comm, error)) {

@@ -72,6 +72,11 @@ Section<ParallelSettings> make_parallel() {
       number("imbalance_threshold", "", non_negative_number(), &P::imbalance_threshold,
              "re-partition when the largest per-rank work exceeds the mean by more than this "
              "fraction (work: 1 per resin particle, 0.3 per wall particle)"),
+      integer("min_top_cells", "", 1, &P::min_top_cells,
+              "the decomposition partitions top-level cells, blocks of b^D neighbor-search "
+              "cells with the smallest b that leaves at most max(64 x ranks, this) of them; "
+              "every rank holds their owners, rank 0 partitions their graph (a smaller value: "
+              "coarser blocks, less memory, a rougher balance)"),
   };
   s.intro =
       "How the decomposition follows the resin when a run uses several MPI ranks\n"

@@ -142,6 +142,21 @@ std::vector<int> relabel_parts(const std::vector<int>& old, const std::vector<in
 
 }  // namespace detail
 
+long block_edge(const std::array<long, 3>& dims, long max_blocks) {
+  const auto count = [&dims](long b) {
+    double n = 1;
+    for (long d : dims) n *= static_cast<double>((d + b - 1) / b);
+    return n;
+  };
+  const double cells = count(1);
+  const double limit = static_cast<double>(std::max(1L, max_blocks));
+  // Start just below the answer (the cube root of the ratio in 3D, the
+  // square root in 2D: a generous lower bound is the cube root) and step up.
+  long b = std::max(1L, static_cast<long>(std::floor(std::cbrt(cells / limit))));
+  while (count(b) > limit) ++b;
+  return b;
+}
+
 // ---------------------------------------------------------------- CellGrid
 
 template <int D>
@@ -151,6 +166,17 @@ CellGrid<D>::CellGrid(const Box<D>& box, const std::array<bool, 3>& periodic, do
     const double len = box.hi[k] - box.lo[k];
     n_[static_cast<std::size_t>(k)] = std::max(1L, static_cast<long>(std::floor(len / min_cell)));
     size_[k] = len / static_cast<double>(n_[static_cast<std::size_t>(k)]);
+  }
+  for (int k = D; k < 3; ++k) periodic_[static_cast<std::size_t>(k)] = false;
+}
+
+template <int D>
+CellGrid<D>::CellGrid(const Box<D>& box, const std::array<bool, 3>& periodic, const Coords& cells)
+    : box_(box), periodic_(periodic) {
+  for (int k = 0; k < D; ++k) {
+    const auto uk = static_cast<std::size_t>(k);
+    n_[uk] = std::max(1L, cells[uk]);
+    size_[k] = (box.hi[k] - box.lo[k]) / static_cast<double>(n_[uk]);
   }
   for (int k = D; k < 3; ++k) periodic_[static_cast<std::size_t>(k)] = false;
 }
@@ -201,19 +227,31 @@ int CellGrid<D>::neighbors(long cell, std::array<long, 26>& out) const {
 
 // ----------------------------------------------------------- Decomposition
 
+namespace {
+
+// Blocks per axis: ceil(n_k / edge).
+std::array<long, 3> block_dims(const std::array<long, 3>& cells, long edge) {
+  return {(cells[0] + edge - 1) / edge, (cells[1] + edge - 1) / edge, (cells[2] + edge - 1) / edge};
+}
+
+}  // namespace
+
 template <int D>
 Decomposition<D>::Decomposition(const Comm& comm, const Box<D>& domain,
-                                const std::array<bool, 3>& periodic, double min_cell)
+                                const std::array<bool, 3>& periodic, double min_cell,
+                                long max_top_cells)
     : comm_(comm),
       grid_(domain, periodic, min_cell),
-      owner_(static_cast<std::size_t>(grid_.cells()), 0) {}
+      edge_(block_edge(grid_.dims(), max_top_cells > 0 ? max_top_cells : max_blocks(comm_.size()))),
+      blocks_(domain, periodic, block_dims(grid_.dims(), edge_)),
+      owner_(static_cast<std::size_t>(blocks_.cells()), 0) {}
 
 template <int D>
 std::vector<std::int64_t> Decomposition<D>::cell_work(const SphParticles<D>& ps,
                                                       std::size_t n) const {
-  std::vector<std::int64_t> work(static_cast<std::size_t>(grid_.cells()), 0);
+  std::vector<std::int64_t> work(static_cast<std::size_t>(blocks()), 0);
   for (std::size_t i = 0; i < n; ++i) {
-    work[static_cast<std::size_t>(grid_.cell_of(ps.x[i]))] += particle_work(ps, i);
+    work[static_cast<std::size_t>(block_of(ps.x[i]))] += particle_work(ps, i);
   }
   return work;
 }
@@ -264,31 +302,53 @@ template std::vector<int> compute_owners<3>(const CellGrid<3>&, const std::vecto
 
 }  // namespace detail
 
+namespace detail {
+
+double owner_imbalance(const std::vector<std::int64_t>& work, const std::vector<int>& owner,
+                       int parts) {
+  std::vector<std::int64_t> per_rank(static_cast<std::size_t>(parts), 0);
+  for (std::size_t c = 0; c < work.size(); ++c)
+    per_rank[static_cast<std::size_t>(owner[c])] += work[c];
+  const std::int64_t total = std::accumulate(per_rank.begin(), per_rank.end(), std::int64_t{0});
+  if (total == 0) return 0.0;
+  const std::int64_t most = *std::max_element(per_rank.begin(), per_rank.end());
+  return static_cast<double>(most) * parts / static_cast<double>(total) - 1.0;
+}
+
+}  // namespace detail
+
 template <int D>
-void Decomposition<D>::partition(const std::vector<std::int64_t>& work, bool replicated) {
-  if (comm_.size() == 1) return;
-  std::vector<std::int64_t> total(work.size(), 0);
+double Decomposition<D>::partition(const std::vector<std::int64_t>& work, bool replicated) {
+  if (comm_.size() == 1) return 0.0;
+  // Only rank 0 needs the sum: the others keep no copy of the vector.
+  std::vector<std::int64_t> total;
   const int count = static_cast<int>(work.size());
   if (replicated) {
-    total = work;
+    if (comm_.root()) total = work;
   } else {
-    MPI_Reduce(work.data(), total.data(), count, MPI_INT64_T, MPI_SUM, 0, comm_.raw());
+    if (comm_.root()) total.assign(work.size(), 0);
+    MPI_Reduce(work.data(), comm_.root() ? total.data() : nullptr, count, MPI_INT64_T, MPI_SUM, 0,
+               comm_.raw());
   }
   // Rank 0 partitions; an error there must reach every rank, which would
   // otherwise wait in the broadcast forever.
   std::string error;
+  double result[2] = {0.0, 0.0};  // failed, imbalance of the new map
   if (comm_.root()) {
     try {
-      owner_ = detail::compute_owners(grid_, total, owner_, partitioned_, comm_.size());
+      owner_ = detail::compute_owners(blocks_, total, owner_, partitioned_, comm_.size());
+      result[1] = detail::owner_imbalance(total, owner_, comm_.size());
     } catch (const std::exception& e) {
       error = e.what();
+      result[0] = 1.0;
     }
   }
-  int failed = error.empty() ? 0 : 1;
-  MPI_Bcast(&failed, 1, MPI_INT, 0, comm_.raw());
-  if (failed) throw std::runtime_error(comm_.root() ? error : "sphdem: partitioning failed");
+  MPI_Bcast(result, 2, MPI_DOUBLE, 0, comm_.raw());
+  if (result[0] != 0.0)
+    throw std::runtime_error(comm_.root() ? error : "sphdem: partitioning failed");
   MPI_Bcast(owner_.data(), static_cast<int>(owner_.size()), MPI_INT, 0, comm_.raw());
   partitioned_ = true;
+  return result[1];
 }
 
 template <int D>
@@ -302,16 +362,10 @@ double Decomposition<D>::imbalance(const SphParticles<D>& ps) const {
 
 template <int D>
 double Decomposition<D>::imbalance(const std::vector<std::int64_t>& work) const {
-  std::vector<std::int64_t> total(work.size(), 0);
-  MPI_Allreduce(work.data(), total.data(), static_cast<int>(work.size()), MPI_INT64_T, MPI_SUM,
-                comm_.raw());
-  std::int64_t mine = 0, all = 0;
-  for (std::size_t c = 0; c < total.size(); ++c) {
-    all += total[c];
-    if (owner_[c] == comm_.rank()) mine += total[c];
-  }
+  const std::int64_t mine = std::accumulate(work.begin(), work.end(), std::int64_t{0});
+  const std::int64_t most = comm_.max(mine), all = comm_.sum(mine);
   if (all == 0) return 0.0;
-  return static_cast<double>(comm_.max(mine)) * comm_.size() / static_cast<double>(all) - 1.0;
+  return static_cast<double>(most) * comm_.size() / static_cast<double>(all) - 1.0;
 }
 
 template class CellGrid<2>;

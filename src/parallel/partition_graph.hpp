@@ -48,9 +48,16 @@ std::vector<int> relabel_parts(const std::vector<int>& old, const std::vector<in
 // The whole serial partition: METIS on the graph of the cells with work > 0
 // (weights: `work`), empty cells attached to their nearest part, and with
 // `relabel` the parts renamed to keep work on its rank from `old`. Returns
-// the owner of every cell of `grid`.
+// the owner of every cell of `grid`. A run calls it on its grid of blocks
+// (top-level cells, Decomposition::block_grid), so its cost grows with the
+// rank count, not with the case.
 template <int D>
 std::vector<int> compute_owners(const CellGrid<D>& grid, const std::vector<std::int64_t>& work,
                                 const std::vector<int>& old, bool relabel, int parts);
+
+// max / mean - 1 of the work per part when cell c (work[c]) goes to part
+// owner[c]; 0 without work.
+double owner_imbalance(const std::vector<std::int64_t>& work, const std::vector<int>& owner,
+                       int parts);
 
 }  // namespace sphdem::detail

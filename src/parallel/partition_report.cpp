@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <numeric>
 #include <ostream>
 #include <utility>
@@ -131,16 +132,50 @@ void add_halo(const CellGrid<D>& grid, const CellLoad& load, const std::vector<i
   s.neighbors_mean /= s.ranks;
 }
 
+// The bytes of the partition step (decomposition.cpp, partition_graph.hpp):
+// on every rank the block -> rank map (int) and its work per block (int64);
+// on rank 0 also the summed work, the graph of the non-empty blocks in
+// compressed rows (int32, as built and once more as METIS's idx_t), their
+// weights (int64 and idx_t) and parts. METIS's own work space, about as
+// large again as its graph, is not counted.
 template <int D>
-PartitionStats measure(const CellGrid<D>& grid, const CellLoad& load, long nonempty, int ranks) {
+void add_memory(const Decomposition<D>& dec, long nonempty, PartitionStats& s) {
+  const double blocks = static_cast<double>(dec.blocks());
+  const double vertices = static_cast<double>(nonempty);
+  const double edges = vertices * (D == 3 ? 26.0 : 8.0);  // interior blocks: every neighbor
+  s.map_bytes = blocks * (sizeof(int) + sizeof(std::int64_t));
+  s.root_bytes = blocks * (sizeof(std::int64_t) + sizeof(int)) +
+                 2 * (vertices + edges) * sizeof(std::int32_t) +
+                 vertices * (sizeof(std::int64_t) + 2 * sizeof(std::int32_t) + sizeof(long));
+}
+
+template <int D>
+PartitionStats measure(const Box<D>& domain, const std::array<bool, 3>& periodic, double cutoff,
+                       const CellLoad& load, int ranks, int min_top_cells) {
   PartitionStats s;
   s.ranks = ranks;
-  s.feasible = ranks <= nonempty;
+  // The decomposition a run on `ranks` ranks builds: its blocks and their work.
+  const Decomposition<D> dec(Comm(MPI_COMM_SELF), domain, periodic, cutoff,
+                             max_blocks(ranks, min_top_cells));
+  const CellGrid<D>& grid = dec.grid();
+  std::vector<std::int64_t> work(static_cast<std::size_t>(dec.blocks()), 0);
+  for (std::size_t c = 0; c < load.work.size(); ++c)
+    work[static_cast<std::size_t>(dec.block_of_cell(static_cast<long>(c)))] += load.work[c];
+  s.blocks = dec.blocks();
+  s.block_edge = dec.block_edge();
+  s.nonempty_blocks = std::count_if(work.begin(), work.end(), [](std::int64_t w) { return w > 0; });
+  add_memory<D>(dec, s.nonempty_blocks, s);
+  s.feasible = ranks <= s.nonempty_blocks;
   if (!s.feasible) return s;
   const auto t0 = std::chrono::steady_clock::now();
   // The initial partition of a run: no previous map, so no relabelling.
-  const std::vector<int> owner = detail::compute_owners<D>(grid, load.work, {}, false, ranks);
+  const std::vector<int> block_owner =
+      detail::compute_owners<D>(dec.block_grid(), work, {}, false, ranks);
   s.partition_seconds = seconds_since(t0);
+  // The owner of every fine cell, for the halo (this serial tool may hold it).
+  std::vector<int> owner(load.work.size());
+  for (std::size_t c = 0; c < owner.size(); ++c)
+    owner[c] = block_owner[static_cast<std::size_t>(dec.block_of_cell(static_cast<long>(c)))];
   std::vector<std::int64_t> owned;
   add_balance(load, owner, s, owned);
   add_halo<D>(grid, load, owner, owned, s);
@@ -163,13 +198,19 @@ PartitionReport report(const Case& c, const std::vector<int>& ranks) {
   // called.
   const NeighborList<D> nl(2.0 * c.h(), c.numerics.neighbor_skin * 2.0 * c.h());
   r.cutoff = nl.cutoff();
-  const Decomposition<D> dec(Comm(MPI_COMM_SELF), simulation_domain<D>(c), c.periodic, nl.cutoff());
+  // Blocks of one cell: the fine grid's load, which every rank count's
+  // blocks then sum.
+  const Box<D> domain = simulation_domain<D>(c);
+  const Decomposition<D> dec(Comm(MPI_COMM_SELF), domain, c.periodic, nl.cutoff(),
+                             std::numeric_limits<long>::max());
   r.dims = dec.grid().dims();
   const CellLoad load = cell_load<D>(dec, ps);
   ps = SphParticles<D>();  // the counts per cell are all that is needed now
   r.nonempty_cells = load.nonempty();
   r.setup_seconds = seconds_since(t0);
-  for (int p : ranks) r.rows.push_back(measure<D>(dec.grid(), load, r.nonempty_cells, p));
+  for (int p : ranks)
+    r.rows.push_back(
+        measure<D>(domain, c.periodic, nl.cutoff(), load, p, c.parallel.min_top_cells));
   return r;
 }
 
@@ -198,27 +239,32 @@ std::string format_partition_table(const PartitionReport& r) {
       "halo per step: {} B per ghost + {} B per wall ghost (forward State, WallState)\n\n",
       r.case_name, d, r.fluid, r.wall, r.spacing, dims, r.cutoff, r.nonempty_cells, r.setup_seconds,
       forward_bytes(d, SphGroup::State), forward_bytes(d, SphGroup::WallState));
-  out += fmt::format("{:>6} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9}\n", "ranks",
-                     "particles", "imbalance", "ghosts/", "max", "halo kB", "halo kB", "neighbors",
-                     "neighbors", "METIS");
-  out +=
-      fmt::format("{:>6} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9}\n", "",
-                  "per rank", "", "owned", "per rank", "max/step", "mean/step", "max", "mean", "s");
+  out += fmt::format(
+      "{:>6} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9} {:>10} {:>5} {:>8} "
+      "{:>8}\n",
+      "ranks", "particles", "imbalance", "ghosts/", "max", "halo kB", "halo kB", "neighbors",
+      "neighbors", "METIS", "top cells", "edge", "map MB", "rank 0");
+  out += fmt::format(
+      "{:>6} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9} {:>10} {:>5} {:>8} "
+      "{:>8}\n",
+      "", "per rank", "", "owned", "per rank", "max/step", "mean/step", "max", "mean", "s",
+      "non-empty", "cells", "per rank", "MB");
   const double particles = static_cast<double>(r.fluid + r.wall);
   for (const PartitionStats& s : r.rows) {
     if (!s.feasible) {
       out += fmt::format(
-          "{:>6}  more ranks than the {} non-empty cells: not partitioned "
+          "{:>6}  more ranks than the {} non-empty top-level cells: not partitioned "
           "(refine the case with --scale)\n",
-          s.ranks, r.nonempty_cells);
+          s.ranks, s.nonempty_blocks);
       continue;
     }
     out += fmt::format(
         "{:>6} {:>10.0f} {:>9.1f}% {:>8.1f}% {:>8.1f}% {:>11.1f} {:>11.1f} {:>9} {:>9.1f} "
-        "{:>9.3f}\n",
+        "{:>9.3f} {:>10} {:>5} {:>8.2f} {:>8.1f}\n",
         s.ranks, particles / s.ranks, 100 * s.imbalance, 100 * s.ghost_fraction,
         100 * s.ghost_fraction_max, s.halo_bytes_max / 1e3, s.halo_bytes_mean / 1e3,
-        s.neighbors_max, s.neighbors_mean, s.partition_seconds);
+        s.neighbors_max, s.neighbors_mean, s.partition_seconds, s.nonempty_blocks, s.block_edge,
+        s.map_bytes / 1e6, s.root_bytes / 1e6);
     if (s.empty_ranks > 0)
       out += fmt::format("       (ranks left without particles: {})\n", s.empty_ranks);
   }
@@ -228,17 +274,20 @@ std::string format_partition_table(const PartitionReport& r) {
 void write_partition_csv(std::ostream& out, const PartitionReport& r) {
   out << "ranks,particles,nonempty_cells,imbalance,ghost_fraction,ghost_fraction_max,"
          "halo_bytes_max,halo_bytes_mean,neighbors_max,neighbors_mean,empty_ranks,"
-         "partition_seconds,note\n";
+         "partition_seconds,blocks,nonempty_blocks,block_edge,map_bytes,root_bytes,note\n";
   const std::int64_t particles = r.fluid + r.wall;
   for (const PartitionStats& s : r.rows) {
     out << fmt::format("{},{},{},", s.ranks, particles, r.nonempty_cells);
+    const std::string blocks = fmt::format("{},{},{},{:.0f},{:.0f}", s.blocks, s.nonempty_blocks,
+                                           s.block_edge, s.map_bytes, s.root_bytes);
     if (!s.feasible) {
-      out << ",,,,,,,,,more ranks than non-empty cells\n";
+      out << ",,,,,,,,," << blocks << ",more ranks than non-empty top-level cells\n";
       continue;
     }
-    out << fmt::format("{:.6g},{:.6g},{:.6g},{:.0f},{:.0f},{},{:.4g},{},{:.4g},\n", s.imbalance,
+    out << fmt::format("{:.6g},{:.6g},{:.6g},{:.0f},{:.0f},{},{:.4g},{},{:.4g},{},\n", s.imbalance,
                        s.ghost_fraction, s.ghost_fraction_max, s.halo_bytes_max, s.halo_bytes_mean,
-                       s.neighbors_max, s.neighbors_mean, s.empty_ranks, s.partition_seconds);
+                       s.neighbors_max, s.neighbors_mean, s.empty_ranks, s.partition_seconds,
+                       blocks);
   }
 }
 

@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "sphdem/geometry/geometry.hpp"
+#include "sphdem/parallel/decomposition.hpp"
 #include "sphdem/particles/dem_particles.hpp"
 #include "sphdem/particles/particles.hpp"
 
@@ -69,8 +70,9 @@ double grid_cells(const Vec<D>& lo, const Vec<D>& hi, double cell) {
   return n;
 }
 
-// Bytes per cell of a decomposition's grid on every rank: its owner (int)
-// and the work per cell (int64) that partitioning sums, twice over.
+// Bytes per top-level cell of a decomposition on every rank
+// (decomposition.hpp): its owner (int) and the work per cell (int64) that
+// partitioning sums, twice over.
 constexpr double kBytesPerCell = 4 + 2 * 8;
 // The filling keeps each node's position twice (a list, then the particles).
 template <int D>
@@ -97,7 +99,8 @@ CaseSize estimate(const Case& c, int ranks) {
     const Box<D> dom = simulation_domain<D>(c);
     s.lattice_nodes = 1;
     for (int d = 0; d < D; ++d) s.lattice_nodes *= (dom.hi[d] - dom.lo[d]) / dx + 1;
-    s.cells = grid_cells<D>(dom.lo, dom.hi, reach * dx);
+    s.cells = std::min(grid_cells<D>(dom.lo, dom.hi, reach * dx),
+                       static_cast<double>(max_blocks(ranks, c.parallel.min_top_cells)));
     // Overlapping shapes count twice above; no more particles than nodes.
     s.resin = std::min(s.resin, s.lattice_nodes);
     s.walls = std::min(s.walls, s.lattice_nodes);
@@ -133,7 +136,7 @@ CaseSize estimate(const Case& c, int ranks) {
       const double margin = 0.1 * (hi - lo).maxCoeff();
       lo.array() -= margin;
       hi.array() += margin;
-      s.cells = grid_cells<D>(lo, hi, f.diameter);
+      s.cells = std::min(grid_cells<D>(lo, hi, f.diameter), static_cast<double>(max_blocks(ranks)));
       dem_cells_bytes = s.cells * kBytesPerCell;
     }
   }

@@ -98,9 +98,9 @@ FiberModule<D>::FiberModule(const RunContext<D>& ctx, const FiberHost<D>* host) 
   const double r = 0.5 * c.fibers->diameter;
   own_dec_ = std::make_unique<Decomposition<D>>(
       ctx.comm, health_box_, std::array<bool, 3>{false, false, false}, DemDomain<D>::reach(r, r));
-  std::vector<std::int64_t> work(static_cast<std::size_t>(own_dec_->grid().cells()), 0);
+  std::vector<std::int64_t> work(static_cast<std::size_t>(own_dec_->blocks()), 0);
   for (std::size_t i = 0; i < all.particles.n_owned; ++i)
-    ++work[static_cast<std::size_t>(own_dec_->grid().cell_of(all.particles.x[i]))];
+    ++work[static_cast<std::size_t>(own_dec_->block_of(all.particles.x[i]))];
   own_dec_->partition(work, true);
   dem_ = std::make_unique<DemDomain<D>>(*own_dec_, all.params, all.walls, std::move(all.particles));
 }
@@ -186,7 +186,7 @@ void FiberModule<D>::add_cell_work(const Decomposition<D>& dec,
   const std::int64_t per = kDemSubstepWork * std::max<std::int64_t>(substeps_, 1);
   const DemParticles<D>& f = dem_->particles();
   for (std::size_t i = 0; i < f.n_owned; ++i)
-    work[static_cast<std::size_t>(dec.grid().cell_of(f.x[i]))] += per;
+    work[static_cast<std::size_t>(dec.block_of(f.x[i]))] += per;
 }
 
 template <int D>

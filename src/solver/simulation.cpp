@@ -26,7 +26,8 @@ ResinModule<D>::ResinModule(const RunContext<D>& ctx)
       eos_(case_.resin.density, case_.resin.sound_speed, case_.resin.gamma),
       domain_(simulation_domain<D>(case_)),
       nl_(2.0 * case_.h(), case_.numerics.neighbor_skin * 2.0 * case_.h()),
-      dec_(comm_, domain_, case_.periodic, nl_.cutoff()) {
+      dec_(comm_, domain_, case_.periodic, nl_.cutoff(),
+           max_blocks(comm_.size(), case_.parallel.min_top_cells)) {
   const InitialCounts counts = build_initial_particles<D>(case_, ps_);
   n_fluid_global_ = static_cast<std::int64_t>(counts.fluid);
   n_wall_global_ = static_cast<std::int64_t>(counts.wall);
@@ -86,9 +87,8 @@ void ResinModule<D>::maybe_rebalance() {
   const double before = dec_.imbalance(work);
   last_imbalance_ = before;
   if (!(before > case_.parallel.imbalance_threshold)) return;
-  dec_.partition(work, /*replicated=*/false);
+  last_imbalance_ = dec_.partition(work, /*replicated=*/false);
   const MigrationCounts moved = migrate<D>(dec_, ps_);
-  last_imbalance_ = dec_.imbalance(work);
   ++repartitions_;
   const std::int64_t total_moved = comm_.sum(static_cast<std::int64_t>(moved.sent));
   std::ostream* log = ctx_.options.log;

@@ -135,6 +135,7 @@ struct Output {
 struct ParallelSettings {
   int balance_every = 100;            // steps between imbalance checks, 0: never re-partition
   double imbalance_threshold = 0.10;  // re-partition past max/mean - 1 of the per-rank work
+  int min_top_cells = 1 << 20;        // top-level cells: at most max(64 x ranks, this)
 };
 
 // Checkpoints for restart (docs/checkpoint.md). Off unless a cadence is

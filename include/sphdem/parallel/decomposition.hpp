@@ -1,15 +1,19 @@
 #pragma once
 // Domain decomposition (docs/parallel.md): a background grid of
-// cells no smaller than the neighbor cut-off covers the simulation domain,
-// and every cell has an owner rank. A rank owns the particles whose position
-// lies in its cells. METIS partitions the graph of non-empty cells weighted
-// by the work in them (on rank 0, then broadcast); empty cells join the part
-// of the nearest non-empty cell, so resin flowing into an empty region of
-// the mold always lands on some rank.
+// cells no smaller than the neighbor cut-off covers the simulation domain.
+// Its cells are grouped into top-level cells ("blocks" of b^D cells, at most
+// max(kBlocksPerRank x ranks, min_blocks) of them, as in SWIFT), and every
+// block has an owner rank: no rank holds an array the size of the fine grid.
+// A rank owns the particles whose position lies in its blocks. METIS
+// partitions the graph of non-empty blocks weighted by the work in them (on
+// rank 0, then broadcast); empty blocks join the part of the nearest
+// non-empty block, so resin flowing into an empty region of the mold always
+// lands on some rank.
 //
 // Migration moves particles to the owner of their cell with every field
 // whose FieldPolicy.migrate is set. Both are collective over the
 // decomposition's communicator; physics never sees any of this.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -40,6 +44,8 @@ class CellGrid {
   // each axis, so cells are never smaller than min_cell and tile periodic
   // axes exactly.
   CellGrid(const Box<D>& box, const std::array<bool, 3>& periodic, double min_cell);
+  // The grid of `cells` cells per axis over `box` (the grid of blocks).
+  CellGrid(const Box<D>& box, const std::array<bool, 3>& periodic, const Coords& cells);
 
   long cells() const { return n_[0] * n_[1] * n_[2]; }
   const Coords& dims() const { return n_; }
@@ -68,34 +74,70 @@ class CellGrid {
   Vec<D> size_;
 };
 
+// Top-level cells per rank (SWIFT uses a few tens): enough for METIS to
+// balance within a few per cent, few enough that the map every rank holds
+// and the graph rank 0 partitions grow with the rank count, not the case.
+inline constexpr long kBlocksPerRank = 64;
+// Below this many top-level cells a block is one cell (4 MB of owners per
+// rank at most): small cases keep the finest partition.
+inline constexpr long kMinBlocks = 1L << 20;
+
+// The most top-level cells of a decomposition over `ranks` ranks.
+inline long max_blocks(int ranks, long min_blocks = kMinBlocks) {
+  return std::max(kBlocksPerRank * static_cast<long>(ranks), min_blocks);
+}
+
+// The smallest block edge b (in cells, the same along every axis) for which
+// the blocks, ceil(n_k / b) along axis k, number at most `max_blocks`.
+long block_edge(const std::array<long, 3>& dims, long max_blocks);
+
 template <int D>
 class Decomposition {
  public:
-  // Every cell starts on rank 0; call partition() to spread them.
+  // Every block starts on rank 0; call partition() to spread them.
+  // max_top_cells: the most blocks (default max_blocks(comm.size())).
   Decomposition(const Comm& comm, const Box<D>& domain, const std::array<bool, 3>& periodic,
-                double min_cell);
+                double min_cell, long max_top_cells = 0);
 
   const Comm& comm() const { return comm_; }
   const CellGrid<D>& grid() const { return grid_; }
-  int owner_of_cell(long cell) const { return owner_[static_cast<std::size_t>(cell)]; }
-  int owner(const Vec<D>& x) const { return owner_of_cell(grid_.cell_of(x)); }
-  const std::vector<int>& owners() const { return owner_; }
+  // The grid of blocks (its dims and adjacency; cells of the fine grid map
+  // to it by block_of_cell, never by position) and the block edge in cells.
+  const CellGrid<D>& block_grid() const { return blocks_; }
+  long block_edge() const { return edge_; }
+  long blocks() const { return blocks_.cells(); }
+  long block_of_cell(long cell) const {
+    const auto c = grid_.coords_of(cell);
+    return blocks_.index({c[0] / edge_, c[1] / edge_, c[2] / edge_});
+  }
+  long block_of(const Vec<D>& x) const {
+    const auto c = grid_.coords(x);
+    return blocks_.index({c[0] / edge_, c[1] / edge_, c[2] / edge_});
+  }
+  int owner_of_cell(long cell) const {
+    return owner_[static_cast<std::size_t>(block_of_cell(cell))];
+  }
+  int owner(const Vec<D>& x) const { return owner_[static_cast<std::size_t>(block_of(x))]; }
+  // The owner of every block (the whole map: every rank holds it).
+  const std::vector<int>& block_owners() const { return owner_; }
 
-  // Work per cell of particles [0, n) of this rank.
+  // Work per block of particles [0, n) of this rank.
   std::vector<std::int64_t> cell_work(const SphParticles<D>& ps, std::size_t n) const;
 
-  // Collective. A new cell -> rank map from the work per cell: this rank's
-  // share (summed over ranks), or with `replicated` the global work, the
-  // same on every rank. Once a map exists, the new parts are relabelled to
-  // keep as much work as possible on its current rank. One rank: no-op.
-  void partition(const std::vector<std::int64_t>& work, bool replicated);
+  // Collective. A new block -> rank map from the work per block: this
+  // rank's share (summed over ranks onto rank 0), or with `replicated` the
+  // global work, the same on every rank. Once a map exists, the new parts
+  // are relabelled to keep as much work as possible on its current rank.
+  // Returns the imbalance of the new map (rank 0 computes it from the
+  // summed work and broadcasts it with the map). One rank: no-op, 0.
+  double partition(const std::vector<std::int64_t>& work, bool replicated);
 
   // Collective: max over ranks of the owned work divided by the mean, minus
   // 1 (0 on one rank). Integer sums, so every rank count agrees exactly.
   double imbalance(const SphParticles<D>& ps) const;
-  // Collective: the same for any work per cell (this rank's particles'
-  // share), summed over ranks and assigned to the cells' current owners
-  // (so it is right before migration too).
+  // Collective: the same for any work per block: each rank's total of its
+  // own vector (the work of the particles it holds), then one max and one
+  // sum over ranks of that single number, never of the vector.
   double imbalance(const std::vector<std::int64_t>& work) const;
 
   // Drops the owned particles (SPH or DEM) that lie in other ranks' cells
@@ -114,6 +156,8 @@ class Decomposition {
  private:
   Comm comm_;
   CellGrid<D> grid_;
+  long edge_ = 1;
+  CellGrid<D> blocks_;
   std::vector<int> owner_;
   bool partitioned_ = false;
 };

@@ -23,8 +23,8 @@ std::size_t forward_bytes(int dim, SphGroup group);
 
 struct PartitionStats {
   int ranks = 0;
-  // False when there are more ranks than non-empty cells: a run would give
-  // ranks single empty cells (nothing below is measured then).
+  // False when there are more ranks than non-empty top-level cells: a run
+  // would give ranks only empty ones (nothing below is measured then).
   bool feasible = true;
   int empty_ranks = 0;            // ranks METIS left without particles
   double imbalance = 0;           // max / mean - 1 of the weighted work
@@ -34,7 +34,13 @@ struct PartitionStats {
   double halo_bytes_mean = 0;     // mean over ranks
   int neighbors_max = 0;          // ranks exchanging ghosts with one rank
   double neighbors_mean = 0;
-  double partition_seconds = 0;  // graph, METIS, empty cells (rank 0 in a run)
+  double partition_seconds = 0;  // graph, METIS, empty blocks (rank 0 in a run)
+  // The top-level cells (blocks) a run at this rank count partitions
+  // (Decomposition::block_grid): all of them, the non-empty ones, the
+  // block edge in cells.
+  long blocks = 0, nonempty_blocks = 0, block_edge = 1;
+  double map_bytes = 0;   // per rank: the block -> rank map and a work per block
+  double root_bytes = 0;  // rank 0 in addition: summed work, graph, METIS's copy, parts
 };
 
 struct PartitionReport {
@@ -48,8 +54,9 @@ struct PartitionReport {
   std::vector<PartitionStats> rows;
 };
 
-// Builds the case's particles and partitions their cell graph for every
-// rank count in `ranks` (each >= 1). Throws InputError for a bad case.
+// Builds the case's particles and partitions their graph of top-level cells
+// for every rank count in `ranks` (each >= 1), as a run on that many ranks
+// would. Throws InputError for a bad case.
 PartitionReport partition_report(const Case& c, const std::vector<int>& ranks);
 
 // The report as an aligned table (what `sphdem partition` prints).

@@ -14,7 +14,7 @@ struct CaseSize {
   // boundary times the wall layers, fibers times particles per fiber).
   double resin = 0, walls = 0, dem = 0;
   double lattice_nodes = 0;  // the filling visits every node of the domain
-  double cells = 0;          // the decomposition's cell grid (every rank holds it)
+  double cells = 0;          // the decomposition's top-level cells (every rank holds their map)
   // Peak bytes of one rank: at set-up every rank builds every SPH and DEM
   // particle before keeping its share; later its share, ghosts and lists.
   double setup_bytes = 0, run_bytes = 0;
