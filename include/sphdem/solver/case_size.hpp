@@ -15,8 +15,10 @@ struct CaseSize {
   double resin = 0, walls = 0, dem = 0;
   double lattice_nodes = 0;  // the filling visits every node of the domain
   double cells = 0;          // the decomposition's top-level cells (every rank holds their map)
-  // Peak bytes of one rank: at set-up every rank builds every SPH and DEM
-  // particle before keeping its share; later its share, ghosts and lists.
+  // Peak resident bytes of one rank (docs/scaling.md, "Memory per rank"):
+  // at set-up every rank builds every SPH and DEM particle before keeping
+  // its share, and keeps their fields' memory; running adds its share's
+  // neighbour lists and buffers. Both include the process itself.
   double setup_bytes = 0, run_bytes = 0;
   double bytes_per_rank() const { return setup_bytes > run_bytes ? setup_bytes : run_bytes; }
   // Which part of the case dominates the memory: "numerics.spacing" (the
