@@ -10,6 +10,7 @@
 #include "../src/app/partition_command.hpp"
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
+#include "sphdem/parallel/decomposition.hpp"
 #include "sphdem/parallel/partition_report.hpp"
 #include "sphdem/solver/solver.hpp"
 
@@ -59,7 +60,7 @@ TEST(Partition, MoreRanksThanCellsIsReportedNotFatal) {
   std::ostringstream csv;
   write_partition_csv(csv, r);
   EXPECT_NE(csv.str().find("100000,13200,"), std::string::npos);
-  EXPECT_NE(csv.str().find("more ranks than non-empty cells"), std::string::npos);
+  EXPECT_NE(csv.str().find("more ranks than non-empty top-level cells"), std::string::npos);
 }
 
 TEST(Partition, CsvHasOneRowPerRankCount) {
@@ -71,10 +72,33 @@ TEST(Partition, CsvHasOneRowPerRankCount) {
   EXPECT_EQ(header,
             "ranks,particles,nonempty_cells,imbalance,ghost_fraction,ghost_fraction_max,"
             "halo_bytes_max,halo_bytes_mean,neighbors_max,neighbors_mean,empty_ranks,"
-            "partition_seconds,note");
+            "partition_seconds,blocks,nonempty_blocks,block_edge,map_bytes,root_bytes,note");
   int rows = 0;
   while (std::getline(in, line)) ++rows;
   EXPECT_EQ(rows, 3);
+}
+
+// The report partitions what a run at each rank count would: its top-level
+// cells (docs/parallel.md), here forced coarse with parallel.min_top_cells.
+TEST(Partition, ReportsTheRunsTopLevelCells) {
+  const Case c = load_case(kPlate, {"parallel.min_top_cells=1"});
+  const PartitionReport r = partition_report(c, {2, 4});
+  const long cells = r.dims[0] * r.dims[1] * r.dims[2];
+  for (const PartitionStats& s : r.rows) {
+    EXPECT_LE(s.blocks, max_blocks(s.ranks, 1)) << s.ranks << " ranks";
+    EXPECT_GT(s.block_edge, 1);
+    EXPECT_LT(s.blocks, cells);
+    EXPECT_LE(s.nonempty_blocks, s.blocks);
+    EXPECT_TRUE(s.feasible);
+    EXPECT_DOUBLE_EQ(s.map_bytes, 12.0 * static_cast<double>(s.blocks));
+    EXPECT_GT(s.root_bytes, s.map_bytes);
+    EXPECT_EQ(s.empty_ranks, 0);
+  }
+  // The default keeps one cell per block for a case this small.
+  const PartitionReport fine = partition_report(load_case(kPlate), {4});
+  EXPECT_EQ(fine.rows[0].block_edge, 1);
+  EXPECT_EQ(fine.rows[0].blocks, cells);
+  EXPECT_EQ(fine.rows[0].nonempty_blocks, fine.nonempty_cells);
 }
 
 TEST(Partition, RankListParsing) {

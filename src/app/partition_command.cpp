@@ -72,8 +72,11 @@ CLI::App* add_partition_command(CLI::App& app, PartitionArgs& a) {
       "the largest per rank (ghosts: particles in cells of another rank's 3^D stencil, an upper\n"
       "bound of the run's halo); halo kB received per step by a rank (the bytes of the field\n"
       "registry's State group per ghost + WallState group per wall ghost, printed above the\n"
-      "table); neighbor ranks exchanged with; METIS = serial partition time.\n"
-      "A rank count above the number of non-empty cells is reported, not partitioned.");
+      "table); neighbor ranks exchanged with; METIS = serial partition time; top cells = the\n"
+      "non-empty top-level cells a run partitions (blocks of edge^D cells, at most\n"
+      "max(64 x ranks, parallel.min_top_cells)); map MB = the block map and work vector every\n"
+      "rank holds; rank 0 MB = its graph, summed work and parts (docs/parallel.md).\n"
+      "A rank count above the number of non-empty top-level cells is reported, not partitioned.");
   return cmd;
 }
 

@@ -242,7 +242,8 @@ Decomposition<D>::Decomposition(const Comm& comm, const Box<D>& domain,
                                 long max_top_cells)
     : comm_(comm),
       grid_(domain, periodic, min_cell),
-      edge_(block_edge(grid_.dims(), max_top_cells > 0 ? max_top_cells : max_blocks(comm_.size()))),
+      edge_(sphdem::block_edge(grid_.dims(),
+                               max_top_cells > 0 ? max_top_cells : max_blocks(comm_.size()))),
       blocks_(domain, periodic, block_dims(grid_.dims(), edge_)),
       owner_(static_cast<std::size_t>(blocks_.cells()), 0) {}
 
