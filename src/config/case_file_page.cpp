@@ -53,15 +53,19 @@ generated from it.
 - **Size estimate.** Before building anything, `check` and `run` estimate
   the particle counts (fill volumes over spacing^D, the mold's boundary
   times the wall layers, fibers times particles per fiber) and each rank's
-  peak memory (at set-up every rank builds every particle; then its share,
-  its ghosts, its neighbour lists and the cell grid), from
+  peak memory (at set-up every rank builds every particle and keeps their
+  memory; then its share, its ghosts, its neighbour lists and the
+  top-level cells; `docs/scaling.md`, "Memory per rank"), from
   `estimate_case_size` (`include/sphdem/solver/case_size.hpp`). A case whose
-  ranks on one node need more than the node's available memory
-  (`MemAvailable` of `/proc/meminfo`, or `--max-memory 16G`) is refused,
-  exit 2, at the key that dominates (`numerics.spacing`, or the fibers'
-  amount or diameter): `--set: key 'numerics.spacing': the case needs about
-  340 GiB on this node ...` (`inputs/plate.yaml` at a spacing of 1e-6 m). `check` prints the estimate (`memory: about
-  ... per rank`). Tests: `test_hostile_input`, ctest `hostile_size`.
+  ranks need more than their share of the node's available memory
+  (`MemAvailable` of `/proc/meminfo`, or `--max-memory 16G`, divided by the
+  ranks on the node; or `--memory-per-rank 4G`) is refused, exit 2, at the
+  key that dominates (`numerics.spacing`, or the fibers' amount or
+  diameter): `--set: key 'numerics.spacing': the case needs about 79.1 TiB
+  per rank at 1 rank(s) ...` (`inputs/plate.yaml` at a spacing of 1e-6 m).
+  `check` prints the estimate (`memory: about ... per rank`); `check --ranks
+  P` prints it for P ranks without building anything. Tests:
+  `test_hostile_input`, ctest `hostile_size`, `memory_estimate_cli`.
 
 ### Shapes
 
