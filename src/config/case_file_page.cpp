@@ -61,7 +61,7 @@ generated from it.
   (`MemAvailable` of `/proc/meminfo`, or `--max-memory 16G`, divided by the
   ranks on the node; or `--memory-per-rank 4G`) is refused, exit 2, at the
   key that dominates (`numerics.spacing`, or the fibers' amount or
-  diameter): `--set: key 'numerics.spacing': the case needs about 79.1 TiB
+  diameter): `--set: key 'numerics.spacing': the case needs about 405 GiB
   per rank at 1 rank(s) ...` (`inputs/plate.yaml` at a spacing of 1e-6 m).
   `check` prints the estimate (`memory: about ... per rank`); `check --ranks
   P` prints it for P ranks without building anything. Tests:
