@@ -32,7 +32,9 @@ TEST(TopCells, BlockEdgeIsTheSmallestThatFits) {
       return n;
     };
     EXPECT_LE(count(b), limit);
-    if (b > 1) EXPECT_GT(count(b - 1), limit);
+    if (b > 1) {
+      EXPECT_GT(count(b - 1), limit);
+    }
   }
   EXPECT_EQ(max_blocks(4), kMinBlocks);
   EXPECT_EQ(max_blocks(1L << 16, 16), kBlocksPerRank << 16);
