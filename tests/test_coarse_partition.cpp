@@ -21,7 +21,7 @@ namespace {
 TEST(TopCells, BlockEdgeIsTheSmallestThatFits) {
   EXPECT_EQ(block_edge({100, 100, 1}, 1L << 20), 1);
   EXPECT_EQ(block_edge({100, 100, 1}, 100), 10);
-  EXPECT_EQ(block_edge({100, 100, 1}, 99), 11);
+  EXPECT_EQ(block_edge({100, 100, 1}, 99), 12);  // 11 still leaves 10 x 10
   EXPECT_EQ(block_edge({7, 5, 3}, 1), 7);
   for (long limit : {1L, 5L, 64L, 1000L, 4096L}) {
     const std::array<long, 3> dims{123, 77, 41};
