@@ -74,9 +74,12 @@ Section<ParallelSettings> make_parallel() {
              "fraction (work: 1 per resin particle, 0.3 per wall particle)"),
       integer("min_top_cells", "", 1, &P::min_top_cells,
               "the decomposition partitions top-level cells, blocks of b^D neighbor-search "
-              "cells with the smallest b that leaves at most max(64 x ranks, this) of them; "
-              "every rank holds their owners, rank 0 partitions their graph (a smaller value: "
-              "coarser blocks, less memory, a rougher balance)"),
+              "cells with the smallest b that leaves at most max(top_cells_per_rank x ranks, "
+              "this) of them; every rank holds their owners, rank 0 partitions their graph (a "
+              "smaller value: coarser blocks, less memory, a rougher balance)"),
+      integer("top_cells_per_rank", "", 1, &P::top_cells_per_rank,
+              "top-level cells per rank once the ranks times this exceed min_top_cells (SWIFT "
+              "uses a few tens)"),
   };
   s.intro =
       "How the decomposition follows the resin when a run uses several MPI ranks\n"

@@ -151,12 +151,12 @@ void add_memory(const Decomposition<D>& dec, long nonempty, PartitionStats& s) {
 
 template <int D>
 PartitionStats measure(const Box<D>& domain, const std::array<bool, 3>& periodic, double cutoff,
-                       const CellLoad& load, int ranks, int min_top_cells) {
+                       const CellLoad& load, int ranks, const ParallelSettings& top) {
   PartitionStats s;
   s.ranks = ranks;
   // The decomposition a run on `ranks` ranks builds: its blocks and their work.
   const Decomposition<D> dec(Comm(MPI_COMM_SELF), domain, periodic, cutoff,
-                             max_blocks(ranks, min_top_cells));
+                             max_blocks(ranks, top.min_top_cells, top.top_cells_per_rank));
   const CellGrid<D>& grid = dec.grid();
   std::vector<std::int64_t> work(static_cast<std::size_t>(dec.blocks()), 0);
   for (std::size_t c = 0; c < load.work.size(); ++c)
@@ -209,8 +209,7 @@ PartitionReport report(const Case& c, const std::vector<int>& ranks) {
   r.nonempty_cells = load.nonempty();
   r.setup_seconds = seconds_since(t0);
   for (int p : ranks)
-    r.rows.push_back(
-        measure<D>(domain, c.periodic, nl.cutoff(), load, p, c.parallel.min_top_cells));
+    r.rows.push_back(measure<D>(domain, c.periodic, nl.cutoff(), load, p, c.parallel));
   return r;
 }
 

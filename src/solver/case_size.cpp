@@ -109,7 +109,8 @@ CaseSize estimate(const Case& c, int ranks) {
     s.lattice_nodes = 1;
     for (int d = 0; d < D; ++d) s.lattice_nodes *= (dom.hi[d] - dom.lo[d]) / dx + 1;
     s.cells = std::min(grid_cells<D>(dom.lo, dom.hi, reach * dx),
-                       static_cast<double>(max_blocks(ranks, c.parallel.min_top_cells)));
+                       static_cast<double>(max_blocks(ranks, c.parallel.min_top_cells,
+                                                      c.parallel.top_cells_per_rank)));
     // Overlapping shapes count twice above; no more particles than nodes.
     s.resin = std::min(s.resin, s.lattice_nodes);
     s.walls = std::min(s.walls, s.lattice_nodes);

@@ -27,7 +27,8 @@ ResinModule<D>::ResinModule(const RunContext<D>& ctx)
       domain_(simulation_domain<D>(case_)),
       nl_(2.0 * case_.h(), case_.numerics.neighbor_skin * 2.0 * case_.h()),
       dec_(comm_, domain_, case_.periodic, nl_.cutoff(),
-           max_blocks(comm_.size(), case_.parallel.min_top_cells)) {
+           max_blocks(comm_.size(), case_.parallel.min_top_cells,
+                      case_.parallel.top_cells_per_rank)) {
   const InitialCounts counts = build_initial_particles<D>(case_, ps_);
   n_fluid_global_ = static_cast<std::int64_t>(counts.fluid);
   n_wall_global_ = static_cast<std::int64_t>(counts.wall);

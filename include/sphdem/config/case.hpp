@@ -135,7 +135,8 @@ struct Output {
 struct ParallelSettings {
   int balance_every = 100;            // steps between imbalance checks, 0: never re-partition
   double imbalance_threshold = 0.10;  // re-partition past max/mean - 1 of the per-rank work
-  int min_top_cells = 1 << 20;        // top-level cells: at most max(64 x ranks, this)
+  int min_top_cells = 1 << 20;        // top-level cells: at most max(per rank x ranks, this)
+  int top_cells_per_rank = 64;
 };
 
 // Checkpoints for restart (docs/checkpoint.md). Off unless a cadence is

@@ -82,9 +82,10 @@ inline constexpr long kBlocksPerRank = 64;
 // rank at most): small cases keep the finest partition.
 inline constexpr long kMinBlocks = 1L << 20;
 
-// The most top-level cells of a decomposition over `ranks` ranks.
-inline long max_blocks(int ranks, long min_blocks = kMinBlocks) {
-  return std::max(kBlocksPerRank * static_cast<long>(ranks), min_blocks);
+// The most top-level cells of a decomposition over `ranks` ranks
+// (parallel.top_cells_per_rank, parallel.min_top_cells).
+inline long max_blocks(int ranks, long min_blocks = kMinBlocks, long per_rank = kBlocksPerRank) {
+  return std::max(per_rank * static_cast<long>(ranks), min_blocks);
 }
 
 // The smallest block edge b (in cells, the same along every axis) for which
