@@ -41,10 +41,9 @@ Section<Resin> make_resin() {
              "rest density rho0 (also the drag law's resin density)")
           .required()
           .identity(),
-      number("viscosity", "Pa s", non_negative_number(), &Resin::viscosity,
-             "dynamic viscosity mu, 0 = inviscid; read by the SPH viscosity term and the drag law")
-          .required()
-          .identity(),
+      resin_viscosity_key(),
+      resin_material_key(),
+      resin_melt_temperature_key(),
       number("sound_speed", "m/s", positive_number(), &Resin::sound_speed,
              "c0 of the Tait equation of state")
           .defaults_to("reference_velocity / mach")
@@ -53,7 +52,10 @@ Section<Resin> make_resin() {
       input_only("reference_velocity", "m/s", "the flow's speed scale, with mach"),
       number("gamma", "", positive_number(), &Resin::gamma, "Tait exponent").identity(),
   };
-  s.finish = finish_sound_speed;
+  s.finish = [](const Map& m, Resin& r, Context& ctx) {
+    finish_sound_speed(m, r, ctx);
+    finish_melt(m, r, ctx);
+  };
   s.notes =
       "The sound speed is given in exactly one of two ways: `sound_speed`, or both\n"
       "`mach` and `reference_velocity`, in which case c0 = reference_velocity /\n"

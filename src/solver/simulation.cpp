@@ -159,11 +159,12 @@ void ResinModule<D>::rates() {
 template <int D>
 std::optional<TimeStep> ResinModule<D>::stable_dt() {
   const LocalExtremes ex = local_extremes<D>(ps_);
-  double v_max = 0, a_max = 0;
+  double v_max = 0, a_max = 0, mu_max = -1.0;
   {
     ScopedPhase t(timers_, Phase::Wait);
     v_max = comm_.max(ex.v_max);
     a_max = comm_.max(ex.a_max);
+    if (sp_.variable_viscosity) mu_max = comm_.max(ex.mu_max);
   }
   if (!std::isfinite(v_max) || !std::isfinite(a_max)) {
     throw CollectiveSimulationError(
@@ -171,7 +172,7 @@ std::optional<TimeStep> ResinModule<D>::stable_dt() {
                     "or acceleration is not finite",
                     ctx_.clock.step, ctx_.clock.time));
   }
-  return choose_time_step(case_.numerics, sp_, v_max, a_max);
+  return choose_time_step(case_.numerics, sp_, v_max, a_max, mu_max);
 }
 
 // The first kick and the drift; the walls move rigidly, exactly for a
