@@ -235,6 +235,26 @@ TEST(ViscosityKeys, MaterialLibrary) {
       << missing;
 }
 
+// docs/physics.md "Injection pressure": the paper's plate (0.1 Pa s) is
+// carried by its sound speed; a real melt's viscous pressure drop is not,
+// and `check` says which sound speed would carry it.
+bool warns_pressure(const Case& c) {
+  for (const std::string& w : c.warnings)
+    if (w.find("viscous pressure drop") != std::string::npos) return true;
+  return false;
+}
+
+TEST(ViscosityKeys, PressureWarning) {
+  EXPECT_FALSE(warns_pressure(testing::load_input("plate.yaml")));
+  const Case melt = testing::load_input(
+      "plate.yaml", {"resin.material=materials/pp_typical.yaml", "resin.melt_temperature=503.15",
+                     "resin.viscosity=null"});
+  ASSERT_TRUE(warns_pressure(melt));
+  for (const std::string& w : melt.warnings)
+    if (w.find("viscous pressure drop") != std::string::npos)
+      EXPECT_NE(w.find("a sound speed of"), std::string::npos) << w;
+}
+
 // --- power-law plane Poiseuille ---------------------------------------------------
 
 constexpr double kL = 1e-3, kH = 0.5e-3, kRhoG = 0.1;  // rho g = 1000 * 1e-4

@@ -2,10 +2,12 @@
 // (docs/case-file.md, docs/physics.md "Melt viscosity"). A plain number is
 // the Newtonian viscosity, as it always was; a mapping names a
 // generalized-Newtonian law and its published constants.
+#include <cmath>
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "schema.hpp"
 #include "sphdem/core/errors.hpp"
@@ -307,6 +309,73 @@ void finish_melt(const Map& m, Resin& r, Context&) {
   const double T = r.melt_temperature.value_or(0.0);
   r.viscosity = law.max ? *law.max
                         : std::max(law.min, viscosity_law(law, 0.0, 0.0, T, 0.0));
+}
+
+}  // namespace sphdem::config
+
+namespace sphdem::config {
+
+namespace {
+// The narrowest passage (the smallest extent of any mold shape's bounding
+// box) and the flow length (the largest extent of the whole mold's box).
+std::pair<double, double> mold_extents(const Case& c) {
+  Vec3a lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  double small = 1e300;
+  for (const Shape& s : c.mold.shapes) {
+    Vec3a slo{1e300, 1e300, 1e300}, shi{-1e300, -1e300, -1e300};
+    const auto grow = [&](int d, double v) {
+      slo[d] = std::min(slo[d], v);
+      shi[d] = std::max(shi[d], v);
+    };
+    if (s.type == Shape::Type::Box) {
+      for (int d = 0; d < c.dimension; ++d) grow(d, s.lo[d]), grow(d, s.hi[d]);
+    } else {
+      for (const auto& p : s.vertices) grow(0, p[0]), grow(1, p[1]);
+    }
+    for (int d = 0; d < c.dimension; ++d) {
+      small = std::min(small, shi[d] - slo[d]);
+      lo[d] = std::min(lo[d], slo[d]);
+      hi[d] = std::max(hi[d], shi[d]);
+    }
+  }
+  double large = 0;
+  for (int d = 0; d < c.dimension; ++d) large = std::max(large, hi[d] - lo[d]);
+  return {small, large};
+}
+}  // namespace
+
+// docs/physics.md "Injection pressure": the weakly compressible resin
+// carries a pressure difference dp only by compressing, by dp / (rho c0^2);
+// a viscous pressure drop beyond 1 % of rho c0^2 is more compression than
+// the model allows. The drop is estimated as plane Poiseuille flow through
+// the narrowest mold shape (W, its smallest extent) over the mold's largest
+// extent L at the fastest wall's
+// speed U: dp = 12 eta U L / W^2, eta the law at the wall shear rate 6 U / W.
+void warn_viscous_pressure(Case& c) {
+  constexpr double kAllowedCompression = 0.01;
+  double u = 0;
+  for (const MovingWall& w : c.moving_walls)
+    for (const Vec3a& v : w.velocity.velocity) u = std::max(u, std::hypot(v[0], v[1], v[2]));
+  if (u <= 0 || c.mold.shapes.empty() || c.numerics.viscosity_model == ViscosityModel::None)
+    return;
+  const auto [gap, length] = mold_extents(c);
+  if (!(gap > 0)) return;
+  const double eta = melt_viscosity(c.resin.melt, c.resin.viscosity, 6.0 * u / gap,
+                                    c.resin.melt_temperature.value_or(0.0), 0.0);
+  const double dp = 12.0 * eta * u * length / (gap * gap);
+  const double carried = kAllowedCompression * c.resin.density * c.resin.sound_speed *
+                         c.resin.sound_speed;
+  if (dp > carried) {
+    c.warnings.push_back(fmt::format(
+        "the expected viscous pressure drop {:.3g} Pa (12 eta U L / W^2: eta {:.3g} Pa s, wall "
+        "speed U {:.3g} m/s, mold {:.3g} m long, narrowest shape {:.3g} m) exceeds what the sound speed "
+        "carries at 1 % density variation, 0.01 rho c0^2 = {:.3g} Pa: the resin compresses by "
+        "about {:.2g} %, and pressures are not physical; a sound speed of {:.3g} m/s or more "
+        "would carry it (docs/physics.md \"Injection pressure\")",
+        dp, eta, u, length, gap, carried, 100.0 * dp / (c.resin.density * c.resin.sound_speed *
+                                                         c.resin.sound_speed),
+        std::sqrt(dp / (kAllowedCompression * c.resin.density))));
+  }
 }
 
 }  // namespace sphdem::config

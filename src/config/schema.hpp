@@ -361,6 +361,9 @@ Key<Resin> resin_viscosity_key();
 Key<Resin> resin_material_key();
 Key<Resin> resin_melt_temperature_key();
 void finish_melt(const Map& m, Resin& r, Context& ctx);
+// `sphdem check`'s warning when the viscous pressure drop needs more
+// compression than 1 % (docs/physics.md "Injection pressure").
+void warn_viscous_pressure(Case& c);
 const Section<Mold>& mold_keys();  // keys_walls.cpp
 const Section<MovingWall>& moving_wall_keys();
 const Section<SlidingWall>& sliding_wall_keys();

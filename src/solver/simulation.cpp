@@ -6,6 +6,7 @@
 #include <ostream>
 #include <stdexcept>
 
+#include "injection_pressure.hpp"
 #include "snapshot_fields.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/geometry/geometry.hpp"
@@ -246,9 +247,15 @@ void ResinModule<D>::snapshot(SnapshotParts& parts) {
   auto buf = std::make_shared<const SnapshotBuffers<D>>(ps_, case_.output.fields);
   for (ParticleSetView& v : buf->views()) parts.views.push_back(std::move(v));
   parts.buffers.push_back(std::move(buf));
+  if (comm_.root() && ctx_.options.write_output) {
+    append_injection_pressure(ctx_.options.output_dir, case_.name, ctx_.clock.step,
+                              ctx_.clock.time, walls_, !pressure_series_started_);
+  }
+  pressure_series_started_ = true;
 }
 
-// The piston (the last moving wall): its speed and face pressure.
+// The piston (the last moving wall): its speed and face pressure, the
+// injection pressure (injection_pressure.hpp).
 template <int D>
 void ResinModule<D>::progress(std::string& line) const {
   const WallMotion* piston = nullptr;
