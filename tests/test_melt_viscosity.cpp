@@ -80,7 +80,8 @@ TEST(ViscosityLaw, CrossByHandAndLimits) {
   EXPECT_DOUBLE_EQ(melt_viscosity(m, 0, 0.0, 0, 0), 1000.0);
   // High shear: the power law eta0^n tau*^(1-n) gd^(n-1).
   const double gd = 1e8;
-  const double power = std::pow(m.eta0, m.n) * std::pow(m.tau_star, 1 - m.n) * std::pow(gd, m.n - 1);
+  const double power =
+      std::pow(m.eta0, m.n) * std::pow(m.tau_star, 1 - m.n) * std::pow(gd, m.n - 1);
   EXPECT_NEAR(melt_viscosity(m, 0, gd, 0, 0) / power, 1.0, 1e-4);
   // tau* -> infinity: Newtonian eta0.
   m.tau_star = 1e30;
@@ -154,8 +155,7 @@ TEST(ViscosityKeys, LawsAndTheirErrors) {
   EXPECT_TRUE(make_sph_params(c).variable_viscosity);
 
   const std::string unknown = error_of(base_case("  viscosity: {model: crosswlf, n: 0.3}\n"));
-  EXPECT_NE(unknown.find("case.yaml:4: key 'resin.viscosity.model'"), std::string::npos)
-      << unknown;
+  EXPECT_NE(unknown.find("case.yaml:4: key 'resin.viscosity.model'"), std::string::npos) << unknown;
   EXPECT_NE(unknown.find("newtonian, power_law, carreau, cross, cross_wlf"), std::string::npos)
       << unknown;
   EXPECT_NE(unknown.find("did you mean 'cross_wlf'"), std::string::npos) << unknown;
@@ -226,9 +226,9 @@ TEST(ViscosityKeys, MaterialLibrary) {
     EXPECT_GT(eta0, 10.0) << grade;
     EXPECT_LT(melt_viscosity(c.resin.melt, 0, 1e3, 553.15, 0.0), 0.5 * eta0) << grade;
   }
-  const std::string both = error_of(
-      base_case("  viscosity: 1\n  material: " + std::string(SPHDEM_SOURCE_DIR) +
-                "/inputs/materials/pp_typical.yaml\n  melt_temperature: 503\n"));
+  const std::string both =
+      error_of(base_case("  viscosity: 1\n  material: " + std::string(SPHDEM_SOURCE_DIR) +
+                         "/inputs/materials/pp_typical.yaml\n  melt_temperature: 503\n"));
   EXPECT_NE(both.find("either viscosity or material"), std::string::npos) << both;
   const std::string missing = error_of(base_case("  material: no_such_grade.yaml\n"));
   EXPECT_NE(missing.find("key 'resin.material': cannot open material file"), std::string::npos)
@@ -246,9 +246,9 @@ bool warns_pressure(const Case& c) {
 
 TEST(ViscosityKeys, PressureWarning) {
   EXPECT_FALSE(warns_pressure(testing::load_input("plate.yaml")));
-  const Case melt = testing::load_input(
-      "plate.yaml", {"resin.material=materials/pp_typical.yaml", "resin.melt_temperature=503.15",
-                     "resin.viscosity=null"});
+  const Case melt =
+      testing::load_input("plate.yaml", {"resin.material=materials/pp_typical.yaml",
+                                         "resin.melt_temperature=503.15", "resin.viscosity=null"});
   ASSERT_TRUE(warns_pressure(melt));
   for (const std::string& w : melt.warnings)
     if (w.find("viscous pressure drop") != std::string::npos)
@@ -262,15 +262,16 @@ constexpr double kL = 1e-3, kH = 0.5e-3, kRhoG = 0.1;  // rho g = 1000 * 1e-4
 // u(y) = n/(n+1) (rho g/K)^(1/n) (H^((n+1)/n) - |y - H|^((n+1)/n)).
 double power_law_poiseuille(double y, double n, double K) {
   const double e = (n + 1) / n;
-  return n / (n + 1) * std::pow(kRhoG / K, 1 / n) * (std::pow(kH, e) - std::pow(std::abs(y - kH), e));
+  return n / (n + 1) * std::pow(kRhoG / K, 1 / n) *
+         (std::pow(kH, e) - std::pow(std::abs(y - kH), e));
 }
 
 // The overrides that start the case on the power-law profile of (n, K).
 std::vector<std::string> start_on_profile(double n, double K) {
-  return {fmt::format("initial_fields[0].velocity=['({n}/({n}+1))*({g}/{K})^(1/{n})*({H}^(({n}+1)/"
-                      "{n}) - abs(y - {H})^(({n}+1)/{n}))', 0]",
-                      fmt::arg("n", n), fmt::arg("K", K), fmt::arg("g", kRhoG),
-                      fmt::arg("H", kH))};
+  return {
+      fmt::format("initial_fields[0].velocity=['({n}/({n}+1))*({g}/{K})^(1/{n})*({H}^(({n}+1)/"
+                  "{n}) - abs(y - {H})^(({n}+1)/{n}))', 0]",
+                  fmt::arg("n", n), fmt::arg("K", K), fmt::arg("g", kRhoG), fmt::arg("H", kH))};
 }
 
 struct Variant {
@@ -325,8 +326,8 @@ TEST(PowerLawPoiseuille, SteadyProfile) {
 // The same start with a Newtonian resin of the wall viscosity drifts to its
 // parabola: the check above can fail.
 TEST(PowerLawPoiseuille, NewtonianDriftsAway) {
-  const Case c = testing::load_input("validation/poiseuille_power_law.yaml",
-                                     {"resin.viscosity=1.25e-3"});
+  const Case c =
+      testing::load_input("validation/poiseuille_power_law.yaml", {"resin.viscosity=1.25e-3"});
   const double err = run_and_compare(c, 0.5, 2.5e-4, c.numerics.end_time);
   std::printf("[          ] newtonian from the power-law profile: relative L2 error %.4f\n", err);
   EXPECT_GT(err, 0.1);
@@ -340,9 +341,9 @@ struct Row {
 };
 
 std::vector<Row> run_rows(const Comm& comm, int steps) {
-  const Case c = testing::load_input("validation/poiseuille_power_law.yaml",
-                                     {"parallel.balance_every=25",
-                                      "parallel.imbalance_threshold=0.001"});
+  const Case c =
+      testing::load_input("validation/poiseuille_power_law.yaml",
+                          {"parallel.balance_every=25", "parallel.imbalance_threshold=0.001"});
   RunOptions opt;
   opt.write_output = false;
   Simulation<2> sim(c, comm, opt);
@@ -351,8 +352,8 @@ std::vector<Row> run_rows(const Comm& comm, int steps) {
   std::vector<Row> rows;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid) continue;
-    rows.push_back({ps.gid[i],
-                    {ps.x[i][0], ps.x[i][1], ps.v[i][0], ps.v[i][1], ps.rho[i], ps.viscosity[i]}});
+    rows.push_back(
+        {ps.gid[i], {ps.x[i][0], ps.x[i][1], ps.v[i][0], ps.v[i][1], ps.rho[i], ps.viscosity[i]}});
   }
   return testing_mpi::gather_rows(comm, rows);
 }

@@ -262,8 +262,8 @@ TEST(SphPairLoop, EqualsTheDirectSumOfTheTermsInEveryCombination) {
           sp.delta = delta;
           sp.anti_clump = clump != 0;
           sp.anti_clump_n = clump == 0 ? 4 : clump;
-          SCOPED_TRACE(testing::Message() << "visc " << visc << " alpha " << alpha << " delta " << delta
-                                          << " clump " << clump);
+          SCOPED_TRACE(testing::Message() << "visc " << visc << " alpha " << alpha << " delta "
+                                          << delta << " clump " << clump);
           expect_loop_matches_direct_sum<2>(sp);
           expect_loop_matches_direct_sum<3>(sp);
         }

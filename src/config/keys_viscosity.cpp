@@ -2,8 +2,8 @@
 // (docs/case-file.md, docs/physics.md "Melt viscosity"). A plain number is
 // the Newtonian viscosity, as it always was; a mapping names a
 // generalized-Newtonian law and its published constants.
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -55,9 +55,8 @@ const std::vector<std::string>& law_required(ViscosityLaw l) {
 void warn_at(const Value& v, Context& ctx, const std::string& message) {
   const int line = v.line();
   const std::string file = v.source().overridden(v.key()) ? "--set" : v.source().file();
-  ctx.c.warnings.push_back(fmt::format("{}{}: key '{}': {}", file,
-                                       line > 0 ? ":" + std::to_string(line) : "", v.key(),
-                                       message));
+  ctx.c.warnings.push_back(fmt::format(
+      "{}{}: key '{}': {}", file, line > 0 ? ":" + std::to_string(line) : "", v.key(), message));
 }
 
 // A temperature below 200 K is not a melt: most likely degrees Celsius.
@@ -71,7 +70,11 @@ void warn_celsius(const Value& v, double kelvin, Context& ctx) {
 }
 
 Key<V> model() {
-  Key<V> k{"model", "enum", "", "required", "newtonian, power_law, carreau, cross or cross_wlf",
+  Key<V> k{"model",
+           "enum",
+           "",
+           "required",
+           "newtonian, power_law, carreau, cross or cross_wlf",
            "the viscosity law (docs/physics.md \"Melt viscosity\")"};
   k.is_required = true;
   k.read = [](const Value& v, V& m, Context&) {
@@ -103,15 +106,15 @@ Key<V> kelvin(std::string name, std::optional<double> V::*field, std::string doc
 // Each given constant belongs to the law; the law's required ones are given.
 void finish_law(const Map& m, V& v, Context& ctx) {
   const auto& mine = law_constants(v.law);
-  for (const std::string c : {"zero_shear_viscosity", "infinite_shear_viscosity",
-                               "relaxation_time", "consistency", "n", "tau_star", "d1", "d2",
-                               "d3", "a1", "a2_tilde", "no_flow_temperature"}) {
+  for (const std::string c :
+       {"zero_shear_viscosity", "infinite_shear_viscosity", "relaxation_time", "consistency", "n",
+        "tau_star", "d1", "d2", "d3", "a1", "a2_tilde", "no_flow_temperature"}) {
     if (std::find(mine.begin(), mine.end(), c) != mine.end()) continue;
     if (const std::optional<Value> x = m.get(c)) {
       std::string list;
       for (const std::string& n : mine) list += (list.empty() ? "" : ", ") + n;
-      x->fail(fmt::format("does not apply to model '{}' (its constants: {})", law_name(v.law),
-                          list));
+      x->fail(
+          fmt::format("does not apply to model '{}' (its constants: {})", law_name(v.law), list));
     }
   }
   for (const std::string& c : law_required(v.law)) {
@@ -141,29 +144,39 @@ Section<V> make_viscosity_law() {
   s.keys = {
       model().identity(),
       number("zero_shear_viscosity", "Pa s", positive_number(), &V::eta0,
-             "eta0 (newtonian: the viscosity; carreau, cross)").identity(),
+             "eta0 (newtonian: the viscosity; carreau, cross)")
+          .identity(),
       number("infinite_shear_viscosity", "Pa s", non_negative_number(), &V::eta_inf,
-             "eta_inf (carreau)").identity(),
-      number("relaxation_time", "s", positive_number(), &V::relaxation_time,
-             "lambda (carreau)").identity(),
-      number("consistency", "Pa s^n", positive_number(), &V::consistency, "K (power_law)").identity(),
+             "eta_inf (carreau)")
+          .identity(),
+      number("relaxation_time", "s", positive_number(), &V::relaxation_time, "lambda (carreau)")
+          .identity(),
+      number("consistency", "Pa s^n", positive_number(), &V::consistency, "K (power_law)")
+          .identity(),
       number("n", "", positive_number(), &V::n,
-             "flow index (power_law: > 0; carreau, cross, cross_wlf: in (0, 1])").identity(),
+             "flow index (power_law: > 0; carreau, cross, cross_wlf: in (0, 1])")
+          .identity(),
       number("tau_star", "Pa", positive_number(), &V::tau_star,
-             "tau*, the shear stress of the transition to shear thinning (cross, cross_wlf)").identity(),
-      number("d1", "Pa s", positive_number(), &V::d1, "D1: zero-shear viscosity at T* (cross_wlf)").identity(),
+             "tau*, the shear stress of the transition to shear thinning (cross, cross_wlf)")
+          .identity(),
+      number("d1", "Pa s", positive_number(), &V::d1, "D1: zero-shear viscosity at T* (cross_wlf)")
+          .identity(),
       number("d2", "K", positive_number(), &V::d2,
-             "D2: T* at zero pressure (cross_wlf; kelvin: a value below 200 gives a warning)").identity(),
-      number("d3", "K/Pa", non_negative_number(), &V::d3, "D3: pressure shift of T* (cross_wlf)").identity(),
+             "D2: T* at zero pressure (cross_wlf; kelvin: a value below 200 gives a warning)")
+          .identity(),
+      number("d3", "K/Pa", non_negative_number(), &V::d3, "D3: pressure shift of T* (cross_wlf)")
+          .identity(),
       number("a1", "", positive_number(), &V::a1, "A1 (cross_wlf)").identity(),
       number("a2_tilde", "K", positive_number(), &V::a2_tilde, "A2~ (cross_wlf)").identity(),
       kelvin("no_flow_temperature", &V::no_flow_temperature,
              "below it the melt does not flow (viscosity = max) (cross_wlf)")
-          .defaults_to("none").identity(),
+          .defaults_to("none")
+          .identity(),
       number("min", "Pa s", non_negative_number(), &V::min, "lower viscosity limit").identity(),
       optional_number("max", "Pa s", positive_number(), &V::max,
                       "upper viscosity limit (required for power_law)")
-          .defaults_to("none").identity(),
+          .defaults_to("none")
+          .identity(),
   };
   s.finish = finish_law;
   s.intro =
@@ -198,9 +211,10 @@ std::string resolve_material(const Value& v) {
   }
   std::error_code ec;
   if (!fs::is_regular_file(given, ec))
-    v.fail(fmt::format("cannot open material file '{}' (looked beside the case file and in the "
-                       "working directory)",
-                       given.string()));
+    v.fail(
+        fmt::format("cannot open material file '{}' (looked beside the case file and in the "
+                    "working directory)",
+                    given.string()));
   return given.string();
 }
 
@@ -260,21 +274,23 @@ Key<Resin> resin_viscosity_key() {
 }
 
 Key<Resin> resin_material_key() {
-  Key<Resin> k{"material", "path", "", "none", "",
+  Key<Resin> k{"material",
+               "path",
+               "",
+               "none",
+               "",
                "a material file (inputs/materials/) whose `viscosity:` mapping is the law; "
                "instead of `viscosity`"};
-  k.read = [](const Value& v, Resin& r, Context& ctx) {
-    read_material(v, r, ctx);
-  };
+  k.read = [](const Value& v, Resin& r, Context& ctx) { read_material(v, r, ctx); };
   k.show = [](const Resin& r) { return r.melt.material.empty() ? "none" : r.melt.material; };
   return k;
 }
 
 Key<Resin> resin_melt_temperature_key() {
-  Key<Resin> k = optional_number("melt_temperature", "K", positive_number(),
-                                 &Resin::melt_temperature,
-                                 "the melt's temperature (cross_wlf; a value below 200 gives a "
-                                 "warning: kelvin expected)");
+  Key<Resin> k =
+      optional_number("melt_temperature", "K", positive_number(), &Resin::melt_temperature,
+                      "the melt's temperature (cross_wlf; a value below 200 gives a "
+                      "warning: kelvin expected)");
   k.read = [](const Value& v, Resin& r, Context& ctx) {
     r.melt_temperature = positive(v);
     warn_celsius(v, *r.melt_temperature, ctx);
@@ -293,8 +309,9 @@ void finish_melt(const Map& m, Resin& r, Context&) {
   V& law = r.melt;
   if (law.law == ViscosityLaw::Newtonian) return;
   if (law.law == ViscosityLaw::CrossWlf) {
-    const Value t = m.require("melt_temperature", " (model 'cross_wlf' needs the melt's "
-                                                  "temperature, K)");
+    const Value t = m.require("melt_temperature",
+                              " (model 'cross_wlf' needs the melt's "
+                              "temperature, K)");
     const double T = *r.melt_temperature;
     if (law.no_flow_temperature && T < *law.no_flow_temperature) {
       t.fail(fmt::format("{} K is below the no-flow temperature {} K: the melt would not flow",
@@ -307,8 +324,7 @@ void finish_melt(const Map& m, Resin& r, Context&) {
   }
   // The largest viscosity: max, or the zero-shear value (shear thinning).
   const double T = r.melt_temperature.value_or(0.0);
-  r.viscosity = law.max ? *law.max
-                        : std::max(law.min, viscosity_law(law, 0.0, 0.0, T, 0.0));
+  r.viscosity = law.max ? *law.max : std::max(law.min, viscosity_law(law, 0.0, 0.0, T, 0.0));
 }
 
 }  // namespace sphdem::config
@@ -356,24 +372,24 @@ void warn_viscous_pressure(Case& c) {
   double u = 0;
   for (const MovingWall& w : c.moving_walls)
     for (const Vec3a& v : w.velocity.velocity) u = std::max(u, std::hypot(v[0], v[1], v[2]));
-  if (u <= 0 || c.mold.shapes.empty() || c.numerics.viscosity_model == ViscosityModel::None)
-    return;
+  if (u <= 0 || c.mold.shapes.empty() || c.numerics.viscosity_model == ViscosityModel::None) return;
   const auto [gap, length] = mold_extents(c);
   if (!(gap > 0)) return;
   const double eta = melt_viscosity(c.resin.melt, c.resin.viscosity, 6.0 * u / gap,
                                     c.resin.melt_temperature.value_or(0.0), 0.0);
   const double dp = 12.0 * eta * u * length / (gap * gap);
-  const double carried = kAllowedCompression * c.resin.density * c.resin.sound_speed *
-                         c.resin.sound_speed;
+  const double carried =
+      kAllowedCompression * c.resin.density * c.resin.sound_speed * c.resin.sound_speed;
   if (dp > carried) {
     c.warnings.push_back(fmt::format(
         "the expected viscous pressure drop {:.3g} Pa (12 eta U L / W^2: eta {:.3g} Pa s, wall "
-        "speed U {:.3g} m/s, mold {:.3g} m long, narrowest shape {:.3g} m) exceeds what the sound speed "
+        "speed U {:.3g} m/s, mold {:.3g} m long, narrowest shape {:.3g} m) exceeds what the sound "
+        "speed "
         "carries at 1 % density variation, 0.01 rho c0^2 = {:.3g} Pa: the resin compresses by "
         "about {:.2g} %, and pressures are not physical; a sound speed of {:.3g} m/s or more "
         "would carry it (docs/physics.md \"Injection pressure\")",
-        dp, eta, u, length, gap, carried, 100.0 * dp / (c.resin.density * c.resin.sound_speed *
-                                                         c.resin.sound_speed),
+        dp, eta, u, length, gap, carried,
+        100.0 * dp / (c.resin.density * c.resin.sound_speed * c.resin.sound_speed),
         std::sqrt(dp / (kAllowedCompression * c.resin.density))));
   }
 }

@@ -28,8 +28,8 @@ std::string rows_before(const std::filesystem::path& path, std::int64_t step) {
 }  // namespace
 
 void append_injection_pressure(const std::string& dir, const std::string& case_name,
-                               std::int64_t step, double time,
-                               const std::vector<WallMotion>& walls, bool first_of_run) {
+                               std::int64_t step, double time, const std::vector<WallMotion>& walls,
+                               bool first_of_run) {
   bool any = false;
   for (const WallMotion& w : walls) any = any || w.moves;
   if (!any) return;

@@ -16,7 +16,7 @@ namespace sphdem {
 // Rank 0 only. first_of_run: drop the rows at or after `step` (a restart
 // continues the series; a fresh run starts it over) and write the header.
 void append_injection_pressure(const std::string& dir, const std::string& case_name,
-                               std::int64_t step, double time,
-                               const std::vector<WallMotion>& walls, bool first_of_run);
+                               std::int64_t step, double time, const std::vector<WallMotion>& walls,
+                               bool first_of_run);
 
 }  // namespace sphdem

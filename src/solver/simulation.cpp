@@ -248,8 +248,8 @@ void ResinModule<D>::snapshot(SnapshotParts& parts) {
   for (ParticleSetView& v : buf->views()) parts.views.push_back(std::move(v));
   parts.buffers.push_back(std::move(buf));
   if (comm_.root() && ctx_.options.write_output) {
-    append_injection_pressure(ctx_.options.output_dir, case_.name, ctx_.clock.step,
-                              ctx_.clock.time, walls_, !pressure_series_started_);
+    append_injection_pressure(ctx_.options.output_dir, case_.name, ctx_.clock.step, ctx_.clock.time,
+                              walls_, !pressure_series_started_);
   }
   pressure_series_started_ = true;
 }

@@ -19,9 +19,8 @@
 
 namespace sphdem::terms {
 
-using SphTerms =
-    TermList<Continuity, DeltaSph, Pressure, ArtificialViscosity, AntiClump, MorrisViscosity,
-             VariableViscosity>;
+using SphTerms = TermList<Continuity, DeltaSph, Pressure, ArtificialViscosity, AntiClump,
+                          MorrisViscosity, VariableViscosity>;
 
 using SphPasses = PassList<ShearRatePass>;
 

@@ -24,8 +24,8 @@ namespace sphdem {
 // Coupling parameters. Paper: rho = the resin's reference density, mu =
 // its viscosity (900 kg/m^3, 0.1 Pa s).
 struct CouplingParams {
-  double rho = 0;           // resin density in the drag law [kg/m^3]
-  double mu = 0;            // resin viscosity [Pa s]
+  double rho = 0;  // resin density in the drag law [kg/m^3]
+  double mu = 0;   // resin viscosity [Pa s]
   // A viscosity law: mu is the resin's local viscosity at the fiber particle
   // (the Shepard mean of its resin neighbours', coupling_loops.cpp).
   bool local_viscosity = false;
