@@ -4,12 +4,16 @@
 // Poiseuille flow against its steady profile (docs/validation.md
 // "Power-law Poiseuille"), also with Carreau and Cross in their power-law
 // limits, on N ranks bitwise equal to one rank.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "mpi_test_helpers.hpp"
@@ -253,6 +257,34 @@ TEST(ViscosityKeys, PressureWarning) {
   for (const std::string& w : melt.warnings)
     if (w.find("viscous pressure drop") != std::string::npos)
       EXPECT_NE(w.find("a sound speed of"), std::string::npos) << w;
+}
+
+// The injection pressure series: a row per snapshot for the piston, its
+// speed and the face pressure the run reports (docs/physics.md "Injection
+// pressure").
+TEST(InjectionPressure, CsvSeriesPerSnapshot) {
+  const Case c = testing::load_input("plate.yaml");
+  const std::string dir = std::string(SPHDEM_BINARY_DIR) + "/melt_work/plate";
+  std::filesystem::remove_all(dir);
+  RunOptions opt;
+  opt.output_dir = dir;
+  opt.max_steps = 30;
+  const Comm self(MPI_COMM_SELF);
+  Simulation<2> sim(c, self, opt);
+  sim.run();
+  std::ifstream in(dir + "/plate_injection_pressure.csv");
+  ASSERT_TRUE(in) << "no injection pressure series";
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "time_s,step,wall,speed_m_per_s,pressure_pa");
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 2u);  // the first and the last snapshot
+  EXPECT_EQ(rows[0].rfind("0,0,piston,1,", 0), 0u) << rows[0];
+  EXPECT_NE(rows[1].find(",30,piston,"), std::string::npos) << rows[1];
+  const double p = std::stod(rows[1].substr(rows[1].rfind(',') + 1));
+  EXPECT_TRUE(std::isfinite(p));
+  EXPECT_GT(p, 0.0);  // the piston pushes the bath
 }
 
 // --- power-law plane Poiseuille ---------------------------------------------------
