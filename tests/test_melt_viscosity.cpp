@@ -12,6 +12,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -254,9 +256,11 @@ TEST(ViscosityKeys, PressureWarning) {
       testing::load_input("plate.yaml", {"resin.material=materials/pp_typical.yaml",
                                          "resin.melt_temperature=503.15", "resin.viscosity=null"});
   ASSERT_TRUE(warns_pressure(melt));
-  for (const std::string& w : melt.warnings)
-    if (w.find("viscous pressure drop") != std::string::npos)
+  for (const std::string& w : melt.warnings) {
+    if (w.find("viscous pressure drop") != std::string::npos) {
       EXPECT_NE(w.find("a sound speed of"), std::string::npos) << w;
+    }
+  }
 }
 
 // The injection pressure series: a row per snapshot for the piston, its

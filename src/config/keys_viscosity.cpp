@@ -260,6 +260,7 @@ Key<Resin> resin_viscosity_key() {
   k.absent = [](const Map& m, Resin&, Context&) {
     if (!m.has("material")) m.require("viscosity", " (or resin.material)");
   };
+  k.in_identity = true;
   k.section_doc = [] { return section_doc(viscosity_law_keys()); };
   // Newtonian shows as the number it always was (the checkpoint identity of
   // older cases stays the same); a law shows every constant.
