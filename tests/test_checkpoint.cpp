@@ -198,6 +198,14 @@ TEST(Checkpoint, RestartIsBitwiseWithThePistonController) {
   }
 }
 
+// A viscosity law (issue 13): the next step's viscous limit reads the
+// largest particle viscosity, which the checkpoint carries (format 3).
+TEST(Checkpoint, RestartIsBitwiseWithAViscosityLaw) {
+  const Case c = load_case(
+      std::string(SPHDEM_SOURCE_DIR) + "/inputs/validation/poiseuille_power_law.yaml", {});
+  check_restart_is_bitwise(c, "power_law", 57);
+}
+
 // A coupled resin + fiber case (inputs/validation/coupled_box.yaml): the
 // fibers are in the checkpoint (group "dem", with their drag law and the
 // coupled step) and a restart on another rank count continues the run

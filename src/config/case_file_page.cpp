@@ -232,7 +232,7 @@ std::string case_file_markdown() {
     if (!s.notes.empty()) page += s.notes + "\n";
     // A mapping inside a section (resin.viscosity's law): its own table.
     for (const KeyDoc& inner : s.keys) {
-      if (!inner.section || is_shape(inner) || inner.list) continue;
+      if (is_shape(k) || !inner.section || is_shape(inner) || inner.list) continue;
       page += "### `" + k.name + "." + inner.name + "`\n\n";
       if (!inner.section->intro.empty()) page += inner.section->intro + "\n";
       page += table(*inner.section) + "\n";
