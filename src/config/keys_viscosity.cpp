@@ -297,6 +297,10 @@ Key<Resin> resin_melt_temperature_key() {
     warn_celsius(v, *r.melt_temperature, ctx);
   };
   k.defaults_to("none").identity();
+  // In the identity only when given: older cases keep their identity lines.
+  k.section_settings = [](const Resin& r, const std::string& key, std::vector<Setting>& out) {
+    if (r.melt_temperature) out.push_back({key, show_number(*r.melt_temperature), true, false});
+  };
   return k;
 }
 
