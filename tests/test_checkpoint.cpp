@@ -198,6 +198,17 @@ TEST(Checkpoint, RestartIsBitwiseWithThePistonController) {
   }
 }
 
+// A viscosity law (issue 13): the next step's viscous limit reads the
+// largest particle viscosity, which the checkpoint carries (format 3). With
+// `max` far above it (1 Pa s against about 0.03 at the centre line) a
+// restart that lost it would fall back to the ceiling and take another step.
+TEST(Checkpoint, RestartIsBitwiseWithAViscosityLaw) {
+  const Case c =
+      load_case(std::string(SPHDEM_SOURCE_DIR) + "/inputs/validation/poiseuille_power_law.yaml",
+                {"resin.viscosity.max=1"});
+  check_restart_is_bitwise(c, "power_law", 57);
+}
+
 // A coupled resin + fiber case (inputs/validation/coupled_box.yaml): the
 // fibers are in the checkpoint (group "dem", with their drag law and the
 // coupled step) and a restart on another rank count continues the run

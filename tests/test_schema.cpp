@@ -59,8 +59,10 @@ std::vector<std::string> keys_not_in_schema(const YAML::Node& root) {
 std::vector<std::string> input_files() {
   std::vector<std::string> files;
   const std::filesystem::path inputs = std::filesystem::path(SPHDEM_SOURCE_DIR) / "inputs";
+  // inputs/materials/ holds material files (resin.material), not cases.
   for (const auto& e : std::filesystem::recursive_directory_iterator(inputs))
-    if (e.path().extension() == ".yaml") files.push_back(e.path().string());
+    if (e.path().extension() == ".yaml" && e.path().parent_path().filename() != "materials")
+      files.push_back(e.path().string());
   std::sort(files.begin(), files.end());
   return files;
 }

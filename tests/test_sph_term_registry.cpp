@@ -46,7 +46,8 @@ bool has(const std::vector<std::string>& v, const std::string& s) {
 }
 
 TEST(SphTermRegistry, SelectsTheTermsAndVariantsTheCaseSwitchesOn) {
-  EXPECT_EQ(terms::Registry<SphTerms>::kCombinations, 24u);  // delta, AV, mu: 2; clump: 3
+  // delta, AV, mu, variable mu: 2; clump: 3
+  EXPECT_EQ(terms::Registry<SphTerms>::kCombinations, 48u);
 
   SphParams sp = base_params();  // the channel: Morris + anti-clump n = 4
   auto d = describe_pair_loop<2, SphTerms>(sp);
@@ -69,21 +70,30 @@ TEST(SphTermRegistry, SelectsTheTermsAndVariantsTheCaseSwitchesOn) {
   d = describe_pair_loop<2, SphTerms>(sp);
   EXPECT_EQ(d.terms, (std::vector<std::string>{"continuity", "pressure"}));
 
-  // Every switch setting picks its own instantiation.
+  // A viscosity law: the variable-viscosity term instead of Morris's.
+  sp = base_params();
+  sp.variable_viscosity = true;
+  d = describe_pair_loop<2, SphTerms>(sp);
+  EXPECT_EQ(d.terms,
+            (std::vector<std::string>{"continuity", "pressure", "anti_clump", "morris_variable"}));
+
+  // Every switch setting picks its own instantiation (visc: none, Morris,
+  // a law).
   std::set<std::size_t> seen;
-  for (double mu : {0.0, 0.1})
+  for (int visc : {0, 1, 2})
     for (double alpha : {0.0, 0.05})
       for (double delta : {0.0, 0.1})
         for (int clump : {0, 4, 2}) {
           sp = base_params();
-          sp.mu = mu;
+          sp.mu = visc == 0 ? 0.0 : 0.1;
+          sp.variable_viscosity = visc == 2;
           sp.alpha = alpha;
           sp.delta = delta;
           sp.anti_clump = clump != 0;
           sp.anti_clump_n = clump == 0 ? 4 : clump;
           seen.insert(describe_pair_loop<2, SphTerms>(sp).combination);
         }
-  EXPECT_EQ(seen.size(), 24u);
+  EXPECT_EQ(seen.size(), 36u);
 }
 
 // Each active term's declared fields, collected at run time from its type.
@@ -100,12 +110,13 @@ void collect_reads(terms::TermList<T...>, const std::string& name, std::vector<s
 }
 
 TEST(SphTermRegistry, TheRecordHoldsWhatTheActiveTermsDeclareAndNoMore) {
-  for (double mu : {0.0, 0.1})
+  for (int visc : {0, 1, 2})
     for (double alpha : {0.0, 0.05})
       for (double delta : {0.0, 0.1})
         for (bool clump : {false, true}) {
           SphParams sp = base_params();
-          sp.mu = mu;
+          sp.mu = visc == 0 ? 0.0 : 0.1;
+          sp.variable_viscosity = visc == 2;
           sp.alpha = alpha;
           sp.delta = delta;
           sp.anti_clump = clump;
@@ -166,6 +177,7 @@ SphParticles<D> cloud(const SphParams& sp, std::uint32_t seed) {
           const std::size_t p = ps.size() - 1;
           ps.p[p] = 50.0 * u(gen);
           for (int c = 0; c < D; ++c) ps.vwall[p][c] = wall ? 0.3 * u(gen) : v[c];
+          ps.viscosity[p] = wall ? 0.0 : 0.1 * (1.5 + u(gen));  // a law's, per particle
         }
   return ps;
 }
@@ -201,7 +213,11 @@ void direct_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D
                                      terms::anti_clump_r(sp.anti_clump_eps, por2_j), por2_i, por2_j,
                                      kernel.w(r) / kernel.w(sp.spacing), sp.anti_clump_n);
       a[i] -= ps.mass[j] * bracket * F * x;
-      if (sp.mu > 0)
+      if (sp.variable_viscosity) {
+        const double mu_j = ps.kind[j] == Kind::Fluid ? ps.viscosity[j] : ps.viscosity[i];
+        a[i] += 2.0 * terms::harmonic_mean(ps.viscosity[i], mu_j) * sp.mu_scale / sp.grad_scale /
+                ps.rho[i] * vol_j * F * r2 / (r2 + sp.eta2) * w;
+      } else if (sp.mu > 0)
         a[i] += terms::morris_viscosity(2.0 * sp.mu * sp.mu_scale / sp.grad_scale / ps.rho[i],
                                         vol_j, F, r2, sp.eta2) *
                 w;
@@ -234,18 +250,20 @@ void expect_loop_matches_direct_sum(const SphParams& sp) {
 }
 
 TEST(SphPairLoop, EqualsTheDirectSumOfTheTermsInEveryCombination) {
-  for (double mu : {0.0, 0.1})
+  for (int visc : {0, 1, 2})  // none, Morris, a law (per-particle viscosity)
     for (double alpha : {0.0, 0.05})
       for (double delta : {0.0, 0.1})
         for (int clump : {0, 4, 3}) {
           SphParams sp = base_params();
+          const double mu = visc == 0 ? 0.0 : 0.1;
           sp.mu = mu;
+          sp.variable_viscosity = visc == 2;
           sp.alpha = alpha;
           sp.delta = delta;
           sp.anti_clump = clump != 0;
           sp.anti_clump_n = clump == 0 ? 4 : clump;
-          SCOPED_TRACE(testing::Message() << "mu " << mu << " alpha " << alpha << " delta " << delta
-                                          << " clump " << clump);
+          SCOPED_TRACE(testing::Message() << "visc " << visc << " alpha " << alpha << " delta "
+                                          << delta << " clump " << clump);
           expect_loop_matches_direct_sum<2>(sp);
           expect_loop_matches_direct_sum<3>(sp);
         }
@@ -441,6 +459,11 @@ TEST(SphPasses, TheShearRateRunsWhenRequested) {
             std::vector<std::string>{"shear_rate"});
   const auto names = sph_output_fields();
   EXPECT_NE(std::find(names.begin(), names.end(), "shear_rate"), names.end());
+  // A viscosity law reads the shear rate: the pass runs without the request.
+  sp.output_fields = {"velocity"};
+  sp.variable_viscosity = true;
+  EXPECT_EQ(terms::needed_passes<SphTerms>(sp, terms::SphPasses{}),
+            std::vector<std::string>{"shear_rate"});
 }
 
 }  // namespace

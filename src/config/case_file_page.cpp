@@ -234,6 +234,14 @@ std::string case_file_markdown() {
     if (!s.intro.empty()) page += s.intro + "\n";
     if (!is_shape(k)) page += table(s) + "\n";
     if (!s.notes.empty()) page += s.notes + "\n";
+    // A mapping inside a section (resin.viscosity's law): its own table.
+    for (const KeyDoc& inner : s.keys) {
+      if (is_shape(k) || !inner.section || is_shape(inner) || inner.list) continue;
+      page += "### `" + k.name + "." + inner.name + "`\n\n";
+      if (!inner.section->intro.empty()) page += inner.section->intro + "\n";
+      page += table(*inner.section) + "\n";
+      if (!inner.section->notes.empty()) page += inner.section->notes + "\n";
+    }
   }
   return page + kFooter;
 }

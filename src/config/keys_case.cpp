@@ -231,6 +231,7 @@ Section<Case> make_case() {
   s.finish = [](const Map& m, Case& c, Context&) {
     check_fill_inside_mold(c, m.self().source());
     warn_mach(c);
+    warn_viscous_pressure(c);
   };
   return s;
 }

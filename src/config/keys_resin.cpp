@@ -41,10 +41,9 @@ Section<Resin> make_resin() {
              "rest density rho0 (also the drag law's resin density)")
           .required()
           .identity(),
-      number("viscosity", "Pa s", non_negative_number(), &Resin::viscosity,
-             "dynamic viscosity mu, 0 = inviscid; read by the SPH viscosity term and the drag law")
-          .required()
-          .identity(),
+      resin_viscosity_key(),
+      resin_material_key(),
+      resin_melt_temperature_key(),
       number("sound_speed", "m/s", positive_number(), &Resin::sound_speed,
              "c0 of the Tait equation of state")
           .defaults_to("reference_velocity / mach")
@@ -53,13 +52,27 @@ Section<Resin> make_resin() {
       input_only("reference_velocity", "m/s", "the flow's speed scale, with mach"),
       number("gamma", "", positive_number(), &Resin::gamma, "Tait exponent").identity(),
   };
-  s.finish = finish_sound_speed;
+  s.finish = [](const Map& m, Resin& r, Context& ctx) {
+    finish_sound_speed(m, r, ctx);
+    finish_melt(m, r, ctx);
+  };
   s.notes =
       "The sound speed is given in exactly one of two ways: `sound_speed`, or both\n"
       "`mach` and `reference_velocity`, in which case c0 = reference_velocity /\n"
       "mach. Giving both ways, or neither, is an error. Weakly compressible SPH\n"
       "needs a Mach number of 0.1 or less (density errors grow like Ma^2); a\n"
-      "faster wall than 0.1 c0 gives a warning, not an error.\n";
+      "faster wall than 0.1 c0 gives a warning, not an error.\n"
+      "\n"
+      "`viscosity` is a number (Newtonian, Pa s) or a mapping that names a law\n"
+      "(keys below): e.g. `viscosity: {model: power_law, consistency: 2.5e-4, n: 0.5,\n"
+      "max: 1.0e-2}`. Instead of `viscosity`, `material:` loads the law from a\n"
+      "material file (`inputs/materials/`; a relative path is looked up beside the\n"
+      "case file, then in the working directory), a YAML file with `name`, `source`\n"
+      "and a `viscosity:` mapping. `cross_wlf` needs `melt_temperature` (K), above\n"
+      "the law's `no_flow_temperature`. A temperature or a `d2` below 200 K gives a\n"
+      "warning (degrees Celsius where kelvin is expected). When the expected\n"
+      "viscous pressure drop exceeds 0.01 rho0 c0^2, `check` warns and names the\n"
+      "sound speed that would carry it (docs/physics.md \"Injection pressure\").\n";
   return s;
 }
 

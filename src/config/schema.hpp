@@ -355,6 +355,15 @@ Key<T> mapping_list(std::string name, const Section<S>& (*sec)(), std::vector<S>
 const Section<Case>& top_keys();  // keys_case.cpp
 const Section<Resin>& resin_keys();
 const Section<Numerics>& numerics_keys();
+// resin.viscosity (a number or a law), resin.material, resin.melt_temperature
+// and their cross-key checks (keys_viscosity.cpp).
+Key<Resin> resin_viscosity_key();
+Key<Resin> resin_material_key();
+Key<Resin> resin_melt_temperature_key();
+void finish_melt(const Map& m, Resin& r, Context& ctx);
+// `sphdem check`'s warning when the viscous pressure drop needs more
+// compression than 1 % (docs/physics.md "Injection pressure").
+void warn_viscous_pressure(Case& c);
 const Section<Mold>& mold_keys();  // keys_walls.cpp
 const Section<MovingWall>& moving_wall_keys();
 const Section<SlidingWall>& sliding_wall_keys();

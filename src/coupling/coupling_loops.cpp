@@ -107,11 +107,16 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
     }
     const double eps = terms::void_fraction(phi, s.drag.eps_min);
     terms::ShepardSum<D> shepard;
+    double mu_sum = 0.0;  // sum_r V_r W_fr mu_r, a viscosity law's local viscosity
     near_sorted<D>(resin_cells, st.resin_x, dem.x[f], support, resin_gid, near);
     for (const Near& n : near) {
       const auto r = static_cast<std::size_t>(st.resin_index[static_cast<std::size_t>(n.index)]);
-      shepard.add(sph.mass[r] / sph.rho[r], kernel.w(n.r), sph.v[r]);
+      const double vol_r = sph.mass[r] / sph.rho[r], w = kernel.w(n.r);
+      shepard.add(vol_r, w, sph.v[r]);
+      if (s.drag.local_viscosity) mu_sum += vol_r * w * sph.viscosity[r];
     }
+    CouplingParams law = s.drag;
+    if (s.drag.local_viscosity && shepard.has_resin()) law.mu = mu_sum / shepard.s;
     dem.void_fraction[f] = eps;
     dem.shepard_sum[f] = shepard.s;
     dem.resin_velocity[f] = shepard.mean();
@@ -121,7 +126,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
     const double vol = s.thickness * particle_volume<D>(d);
     const Vec<D> vbar = shepard.mean();
     dem.drag_coeff[f] =
-        shepard.has_resin() ? drag_k(s.drag, eps, d, (vbar - dem.v[f]).norm()) * vol : 0.0;
+        shepard.has_resin() ? drag_k(law, eps, d, (vbar - dem.v[f]).norm()) * vol : 0.0;
     dem.drag_velocity[f] = vbar;
     // The force the next first kick uses follows the new law.
     const Vec<D> drag = dem.drag_coeff[f] * (vbar - dem.v[f]);

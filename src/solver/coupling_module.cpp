@@ -16,6 +16,8 @@ CouplingModule<D>::CouplingModule(const RunContext<D>& ctx, ResinModule<D>& resi
   const Case& c = ctx.case_data;
   coupling_.drag.rho = c.resin.density;
   coupling_.drag.mu = c.resin.viscosity;
+  coupling_.drag.local_viscosity = c.resin.melt.law != ViscosityLaw::Newtonian &&
+                                   c.numerics.viscosity_model != ViscosityModel::None;
   coupling_.drag.eps_min = c.fibers->void_fraction_min;
   coupling_.h = c.h();
   coupling_.thickness = fibers.dem().params().thickness;

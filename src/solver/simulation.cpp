@@ -6,6 +6,7 @@
 #include <ostream>
 #include <stdexcept>
 
+#include "injection_pressure.hpp"
 #include "snapshot_fields.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/geometry/geometry.hpp"
@@ -160,11 +161,12 @@ void ResinModule<D>::rates() {
 template <int D>
 std::optional<TimeStep> ResinModule<D>::stable_dt() {
   const LocalExtremes ex = local_extremes<D>(ps_);
-  double v_max = 0, a_max = 0;
+  double v_max = 0, a_max = 0, mu_max = -1.0;
   {
     ScopedPhase t(timers_, Phase::Wait);
     v_max = comm_.max(ex.v_max);
     a_max = comm_.max(ex.a_max);
+    if (sp_.variable_viscosity) mu_max = comm_.max(ex.mu_max);
   }
   if (!std::isfinite(v_max) || !std::isfinite(a_max)) {
     throw CollectiveSimulationError(
@@ -172,7 +174,7 @@ std::optional<TimeStep> ResinModule<D>::stable_dt() {
                     "or acceleration is not finite",
                     ctx_.clock.step, ctx_.clock.time));
   }
-  return choose_time_step(case_.numerics, sp_, v_max, a_max);
+  return choose_time_step(case_.numerics, sp_, v_max, a_max, mu_max);
 }
 
 // The first kick and the drift; the walls move rigidly, exactly for a
@@ -246,9 +248,15 @@ void ResinModule<D>::snapshot(SnapshotParts& parts) {
   auto buf = std::make_shared<const SnapshotBuffers<D>>(ps_, case_.output.fields);
   for (ParticleSetView& v : buf->views()) parts.views.push_back(std::move(v));
   parts.buffers.push_back(std::move(buf));
+  if (comm_.root() && ctx_.options.write_output) {
+    append_injection_pressure(ctx_.options.output_dir, case_.name, ctx_.clock.step, ctx_.clock.time,
+                              walls_, !pressure_series_started_);
+  }
+  pressure_series_started_ = true;
 }
 
-// The piston (the last moving wall): its speed and face pressure.
+// The piston (the last moving wall): its speed and face pressure, the
+// injection pressure (injection_pressure.hpp).
 template <int D>
 void ResinModule<D>::progress(std::string& line) const {
   const WallMotion* piston = nullptr;

@@ -15,11 +15,12 @@
 #include "terms/pressure.hpp"
 #include "terms/shear_rate.hpp"
 #include "terms/viscosity_morris.hpp"
+#include "terms/viscosity_variable.hpp"
 
 namespace sphdem::terms {
 
-using SphTerms =
-    TermList<Continuity, DeltaSph, Pressure, ArtificialViscosity, AntiClump, MorrisViscosity>;
+using SphTerms = TermList<Continuity, DeltaSph, Pressure, ArtificialViscosity, AntiClump,
+                          MorrisViscosity, VariableViscosity>;
 
 using SphPasses = PassList<ShearRatePass>;
 

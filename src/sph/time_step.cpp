@@ -14,6 +14,9 @@ SphParams make_sph_params(const Case& c) {
   sp.c0 = c.resin.sound_speed;
   sp.gamma = c.resin.gamma;
   sp.mu = c.numerics.viscosity_model == ViscosityModel::None ? 0.0 : c.resin.viscosity;
+  sp.variable_viscosity = sp.mu > 0 && c.resin.melt.law != ViscosityLaw::Newtonian;
+  sp.melt = c.resin.melt;
+  sp.melt_temperature = c.resin.melt_temperature.value_or(0.0);
   if (c.numerics.lattice_correction) {
     sp.mu_scale = viscous_lattice_correction(c.dimension, c.numerics.h_over_spacing);
     sp.grad_scale = gradient_lattice_correction(c.dimension, c.numerics.h_over_spacing);
@@ -63,12 +66,15 @@ double gradient_lattice_correction(int dimension, double h_over_spacing) {
 
 template <int D>
 LocalExtremes local_extremes(const SphParticles<D>& ps) {
-  double v2 = 0.0, a2 = 0.0;
+  double v2 = 0.0, a2 = 0.0, mu = 0.0;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     v2 = std::max(v2, ps.v[i].squaredNorm());
-    if (ps.kind[i] == Kind::Fluid) a2 = std::max(a2, ps.a[i].squaredNorm());
+    if (ps.kind[i] == Kind::Fluid) {
+      a2 = std::max(a2, ps.a[i].squaredNorm());
+      mu = std::max(mu, ps.viscosity[i]);
+    }
   }
-  return {std::sqrt(v2), std::sqrt(a2)};
+  return {std::sqrt(v2), std::sqrt(a2), mu};
 }
 
 const char* to_string(DtLimit l) {
@@ -89,15 +95,19 @@ const char* to_string(DtLimit l) {
   return "?";
 }
 
-TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max, double a_max) {
+TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max, double a_max,
+                          double mu_max) {
   if (num.fixed_dt) return {*num.fixed_dt, DtLimit::Fixed};
   TimeStep ts{num.cfl * sp.h / (sp.c0 + v_max), DtLimit::Cfl};
   if (a_max > 0) {
     const double dt_f = num.force_factor * std::sqrt(sp.h / a_max);
     if (dt_f < ts.dt) ts = {dt_f, DtLimit::Force};
   }
-  if (sp.mu > 0) {
-    const double dt_v = num.viscous_factor * sp.h * sp.h * sp.rho0 / sp.mu;
+  // A law: its largest particle viscosity now (before the first rates, the
+  // law's ceiling sp.mu).
+  const double mu = sp.variable_viscosity && mu_max > 0 ? mu_max : sp.mu;
+  if (mu > 0) {
+    const double dt_v = num.viscous_factor * sp.h * sp.h * sp.rho0 / mu;
     if (dt_v < ts.dt) ts = {dt_v, DtLimit::Viscous};
   }
   return ts;

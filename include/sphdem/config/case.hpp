@@ -23,11 +23,37 @@ struct Shape {
   int line = 0;
 };
 
+// The resin's viscosity law (docs/physics.md "Melt viscosity"): a
+// generalized-Newtonian eta(shear rate, T, p). Newtonian keeps the plain
+// `resin.viscosity` number; the others are a mapping under it.
+enum class ViscosityLaw { Newtonian, PowerLaw, Carreau, Cross, CrossWlf };
+
+struct MeltViscosity {
+  ViscosityLaw law = ViscosityLaw::Newtonian;
+  double consistency = 0;      // K [Pa s^n], power_law
+  double n = 1;                // flow index [-], power_law, carreau, cross, cross_wlf
+  double eta0 = 0;             // zero-shear viscosity [Pa s], carreau, cross
+  double eta_inf = 0;          // infinite-shear viscosity [Pa s], carreau
+  double relaxation_time = 0;  // lambda [s], carreau
+  double tau_star = 0;         // [Pa], cross, cross_wlf
+  double d1 = 0;               // [Pa s], cross_wlf
+  double d2 = 0;               // [K]
+  double d3 = 0;               // [K/Pa]
+  double a1 = 0;               // [-]
+  double a2_tilde = 0;         // [K]
+  double min = 0;              // lower viscosity limit [Pa s]
+  std::optional<double> max;   // upper viscosity limit [Pa s]
+  std::optional<double> no_flow_temperature;  // [K], cross_wlf
+  std::string material;                       // the material file it came from, if any
+};
+
 struct Resin {
-  double density = 0;      // rho0 [kg/m^3]
-  double viscosity = 0;    // mu [Pa s]
-  double sound_speed = 0;  // c0 [m/s], given or from mach * reference_velocity
-  double gamma = 7.0;      // Tait exponent
+  double density = 0;                      // rho0 [kg/m^3]
+  double viscosity = 0;                    // mu [Pa s]; non-Newtonian: the largest the law reaches
+  MeltViscosity melt;                      // the law; Newtonian: viscosity above
+  std::optional<double> melt_temperature;  // [K], cross_wlf (until the thermal field)
+  double sound_speed = 0;                  // c0 [m/s], given or from mach * reference_velocity
+  double gamma = 7.0;                      // Tait exponent
 };
 
 enum class ViscosityModel { Morris, None };

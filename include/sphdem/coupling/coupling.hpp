@@ -24,8 +24,11 @@ namespace sphdem {
 // Coupling parameters. Paper: rho = the resin's reference density, mu =
 // its viscosity (900 kg/m^3, 0.1 Pa s).
 struct CouplingParams {
-  double rho = 0;           // resin density in the drag law [kg/m^3]
-  double mu = 0;            // resin viscosity [Pa s]
+  double rho = 0;  // resin density in the drag law [kg/m^3]
+  double mu = 0;   // resin viscosity [Pa s]
+  // A viscosity law: mu is the resin's local viscosity at the fiber particle
+  // (the Shepard mean of its resin neighbours', coupling_loops.cpp).
+  bool local_viscosity = false;
   double eps_min = 0.4;     // void fraction clip, eps in [eps_min, 1] (docs: why 0.4)
   double eps_switch = 0.8;  // Ergun for eps <= eps_switch, Wen & Yu above (paper Eq. 8)
 };

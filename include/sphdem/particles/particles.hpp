@@ -62,6 +62,10 @@ enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2 };
   X(double, drho, kMigrate | kCheckpoint) /* [kg/m^3/s] */                                        \
   /* sqrt(2 D:D), from a neighbour-sum pass when requested (src/sph/terms/shear_rate.hpp) */      \
   X(double, shear_rate, in_group(SphGroup::ShearRate) | output_as("shear_rate", "1/s"))           \
+  /* generalized-Newtonian viscosity [Pa s] of resin particles, owned and ghosts: each rank */    \
+  /* evaluates the law at the forwarded shear rate (src/sph/terms/viscosity_variable.hpp); */     \
+  /* checkpointed because the next step's viscous limit reads it */                               \
+  X(double, viscosity, kMigrate | kCheckpoint | output_as("viscosity", "Pa s"))                   \
   /* Integrator state within a step: half-step values (owned only). They */                       \
   /* migrate: the neighbor rebuild (and so migration) sits between the */                         \
   /* drift and the second kick, which reads them. */                                              \

@@ -77,6 +77,7 @@ class ResinModule final : public Module<D> {
   std::int64_t last_balance_step_ = 0;
   double last_imbalance_ = 0;
   std::int64_t repartitions_ = 0;
+  bool pressure_series_started_ = false;  // the injection pressure CSV of this run
 };
 
 }  // namespace sphdem

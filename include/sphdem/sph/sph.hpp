@@ -20,11 +20,17 @@ struct SphParams {
   double h = 0;
   double spacing = 0;
   double rho0 = 0, c0 = 0, gamma = 7;
-  double mu = 0;          // laminar viscosity (0: none)
-  double mu_scale = 1;    // lattice correction of the viscous Laplacian
-  double grad_scale = 1;  // lattice correction of the kernel gradient
-  double alpha = 0;       // Monaghan artificial viscosity
-  double delta = 0;       // delta-SPH coefficient (0: off)
+  double mu = 0;  // laminar viscosity (0: none); a law: the largest it reaches
+  // A generalized-Newtonian law (variable viscosity, per particle): the
+  // law, and the melt temperature it reads until the resin has its own
+  // temperature field (particle_temperature, viscosity_variable.hpp).
+  bool variable_viscosity = false;
+  MeltViscosity melt;
+  double melt_temperature = 0;  // [K]
+  double mu_scale = 1;          // lattice correction of the viscous Laplacian
+  double grad_scale = 1;        // lattice correction of the kernel gradient
+  double alpha = 0;             // Monaghan artificial viscosity
+  double delta = 0;             // delta-SPH coefficient (0: off)
   bool anti_clump = true;
   double anti_clump_eps = 0.2;
   int anti_clump_n = 4;
@@ -103,6 +109,7 @@ void compute_fluid_passes(const SphParams& sp, const NeighborList<D>& nl, SphPar
 struct LocalExtremes {
   double v_max = 0;
   double a_max = 0;
+  double mu_max = 0;  // largest resin viscosity (a law), else 0
 };
 template <int D>
 LocalExtremes local_extremes(const SphParticles<D>& ps);
@@ -118,6 +125,8 @@ struct TimeStep {
   double dt = 0;
   DtLimit limit = DtLimit::Cfl;
 };
-TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max, double a_max);
+// mu_max: the largest particle viscosity of a law (negative: sp.mu).
+TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max, double a_max,
+                          double mu_max = -1.0);
 
 }  // namespace sphdem
