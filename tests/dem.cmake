@@ -95,3 +95,10 @@ if(SPHDEM_PVPYTHON)
   set_tests_properties(fibers_only_3d_paraview PROPERTIES LABELS "dem;cli;io;paraview" TIMEOUT 120
                                                           FIXTURES_REQUIRED fibers_only_3d_output)
 endif()
+
+# Glass fibers with bond sub-cycling (docs/dem.md, "Bond sub-cycling"):
+# against the explicit integrator at E = 72 GPa (a fiber in shear drag,
+# the cantilever, a coupled box) and, on 2 ranks, bitwise the 1-rank run.
+sphdem_test(test_glass_bonds SOURCES test_glass_bonds.cpp RANKS 1 2 LABELS "validation;dem"
+            TIMEOUT 300
+            ONE_RANK_TESTS "GlassBonds.SubcycledMatches*:GlassBonds.Cantilever*")

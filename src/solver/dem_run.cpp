@@ -31,6 +31,7 @@ DemParams<D> dem_params(const Case& c) {
   p.restitution = f.restitution;
   p.friction = f.friction;
   p.dt_safety = f.dt_safety;
+  p.subcycle_bonds = f.subcycle_bonds;
   p.gravity = to_vec<D>(c.body_force);
   p.kn = contact_stiffness_from_bond(p, 0.5 * f.diameter, f.contact_stiffness_fraction);
   return p;
@@ -79,7 +80,11 @@ FiberModule<D>::FiberModule(const RunContext<D>& ctx, const FiberHost<D>* host) 
   if (host) host_.emplace(*host);
   // Every rank places the same fibers (same seed), then keeps its own.
   DemSystem<D> all = case_fibers<D>(c, wall_owner_, placement_);
-  dem_dt_ = all.stable_dt();
+  dem_dt_ = bond_dt_ = all.stable_dt();
+  if (all.params.subcycle_bonds) {  // bonds in inner steps, the step is the contacts'
+    all.params.bond_dt = dem_dt_;
+    dem_dt_ = std::max(dem_dt_, stable_dem_contact_dt(all.params, all.particles));
+  }
   if (host_) {
     health_box_ = host_->domain;
     dem_ = std::make_unique<DemDomain<D>>(host_->dec, all.params, all.walls,
