@@ -72,17 +72,19 @@ struct FiberResult {
   double steps = 0;
 };
 
-// A fiber in the drag of the shear flow u = (G y, 0): each particle is
-// drawn to the flow with drag time tau (the coupled runs' drag law, with
-// the resin velocity at the particle renewed every `pass`, as the coupling
-// pass does each SPH step). Ten drag times: the start-up vibration has
-// decayed by e^-5.
+// A fiber held at its middle particle (a clamp: velocity and spin kept at
+// zero) across the stream u = (U + G y, 0): each particle is drawn to the
+// flow with drag time tau (the coupled runs' drag law, the resin velocity
+// at the particle renewed every `pass`, as the coupling pass does each SPH
+// step). Both arms bend as cantilevers under an uneven load; ten drag
+// times damp the start-up vibration by e^-5.
 template <int D>
 FiberResult shear_drag(bool subcycled) {
-  const int n = 8;
+  const int n = 9;
   DemSystem<D> sys = glass_fiber<D>(n, kPi / 4, subcycled);
-  const double G = 2000, tau = 2e-5, pass = 1e-6, t_end = 10 * tau;
+  const double U = 1, G = 2000, tau = 2e-5, pass = 1e-6, t_end = 10 * tau;
   auto& ps = sys.particles;
+  ps.fixed[n / 2] = kFixedMotion;
   const double dt_max = outer_dt(sys);
   const auto per_pass = static_cast<long>(std::ceil(pass / dt_max));
   const double dt = pass / static_cast<double>(per_pass);
@@ -92,7 +94,7 @@ FiberResult shear_drag(bool subcycled) {
     for (int i = 0; i < n; ++i) {
       ps.drag_coeff[i] = ps.mass[i] / tau;
       ps.drag_velocity[i] = Vec<D>::Zero();
-      ps.drag_velocity[i][0] = G * ps.x[i][1];
+      ps.drag_velocity[i][0] = U + G * ps.x[i][1];
     }
     for (long s = 0; s < per_pass; ++s) sys.step(dt);
     r.steps += static_cast<double>(per_pass);

@@ -126,6 +126,9 @@ struct DemWorkspace {
   // Bond sub-cycling: the bonds' force and torque on each owned particle.
   std::vector<Vec<D>> bond_force;
   std::vector<Rot<D>> bond_torque;
+  // The slow forces held over the outer step (for its trapezoid correction).
+  std::vector<Vec<D>> held_force, held_drag;
+  std::vector<Rot<D>> held_torque;
   void invalidate() { pairs_valid = forces_valid = false; }
 };
 
@@ -191,18 +194,14 @@ void compute_dem_bond_forces(const DemParams<D>& p, double dt, DemParticles<D>& 
 template <int D>
 void compute_dem_slow_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
                              DemParticles<D>& ps, DemWorkspace<D>& ws);
-// v += dt/m F (F: force, or the bonds' force when `bonds`), same for the spin;
-// the slow kick also adds dt times the drag to drag_impulse.
-template <int D>
-void dem_kick(double dt, bool bonds, DemParticles<D>& ps, const DemWorkspace<D>& ws);
 // x += dt v for the owned particles, walls by their velocity.
 template <int D>
 void dem_drift(double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps);
 
-// One outer step of dt: half kick of the slow forces, `inner` velocity-
-// Verlet steps of dt/inner under the bonds alone (refresh_ghosts after each
-// drift), settle() (the rebuild vote: rebuild or refresh the ghosts), slow
-// forces at the new state, half kick. The serial and the decomposed
+// One outer step of dt: `inner` velocity-Verlet steps of dt/inner under
+// the bonds plus the slow forces held (refresh_ghosts after each drift),
+// settle() (the rebuild vote: rebuild or refresh the ghosts), slow forces
+// at the new state and their trapezoid correction dt/2 (F_new - F_held)/m. The serial and the decomposed
 // drivers differ only in the two hooks.
 template <int D>
 void dem_subcycled_step(const DemParams<D>& p, double dt, std::int64_t inner,
