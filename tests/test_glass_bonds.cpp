@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <numbers>
 #include <vector>
 
@@ -200,19 +201,27 @@ std::vector<FiberRow> coupled_box(const Comm& comm, const std::string& integrati
   RunOptions opt;
   opt.write_output = false;
   Simulation<2> sim(c, comm, opt);
-  sim.advance(steps);
+  // Per bond (by its owner's gid) the largest |sigma| seen at a step's end.
+  std::map<std::int64_t, double> peak;
+  for (int s = 0; s < steps; ++s) {
+    sim.advance(1);
+    const auto& f = sim.dem()->particles();
+    for (std::size_t i = 0; i < f.n_owned; ++i) {
+      const double sigma = f.bonds[i][0].partner >= 0 ? std::abs(f.bonds[i][0].sigma) : 0.0;
+      peak[f.gid[i]] = std::max(peak[f.gid[i]], sigma);
+    }
+  }
   const auto& f = sim.dem()->particles();
   std::vector<FiberRow> rows;
   for (std::size_t i = 0; i < f.n_owned; ++i) {
     rows.push_back({f.gid[i],
-                    {f.x[i][0], f.x[i][1], f.v[i][0], f.v[i][1], f.omega[i][0],
-                     f.bonds[i][0].partner >= 0 ? f.bonds[i][0].sigma : 0.0}});
+                    {f.x[i][0], f.x[i][1], f.v[i][0], f.v[i][1], f.omega[i][0], peak[f.gid[i]]}});
   }
   return testing_mpi::gather_rows(comm, rows);
 }
 
 // 30 glass fibers falling through a sloshing resin (the coupled box of the
-// parallel tests), 40 SPH steps: the sub-cycled bonds' stresses and the
+// parallel tests), 40 SPH steps: the sub-cycled bonds' peak stresses and the
 // fibers' positions against the explicit run's; on N ranks bitwise rank 0's.
 TEST(GlassBonds, CoupledBoxSubcycledMatchesExplicit) {
   const Comm world;
@@ -236,11 +245,25 @@ TEST(GlassBonds, CoupledBoxSubcycledMatchesExplicit) {
                                    one[k].value[1] - ref[k].value[1]));
     travel = std::max(travel, std::hypot(ref[k].value[2], ref[k].value[3]));
   }
-  const double e_sigma = relative_gap(s_ref, s_got);
-  std::printf("coupled glass box: bond stress gap %.2e of the largest (%.4g Pa); position gap "
-              "%.3g m = %.2e fiber diameters\n",
-              e_sigma, *std::max_element(s_ref.begin(), s_ref.end()), gap, gap / (2 * kR));
-  EXPECT_LT(e_sigma, 0.05);
+  // The bond stresses of these free fibers are mostly the ring-down of
+  // their start from rest (a few kPa, vibrations the resin damps over a
+  // drag time, 0.1 ms), whose phase at a given instant differs between the
+  // integrators: the test is on each bond's peak over the run, their
+  // largest value and their RMS gap.
+  double peak_ref = 0, peak_got = 0, d2 = 0, r2 = 0;
+  for (std::size_t k = 0; k < s_ref.size(); ++k) {
+    peak_ref = std::max(peak_ref, std::abs(s_ref[k]));
+    peak_got = std::max(peak_got, std::abs(s_got[k]));
+    d2 += (s_got[k] - s_ref[k]) * (s_got[k] - s_ref[k]);
+    r2 += s_ref[k] * s_ref[k];
+  }
+  const double e_peak = std::abs(peak_got / peak_ref - 1), e_rms = std::sqrt(d2 / r2);
+  std::printf("coupled glass box: largest bond stress %.4g Pa, sub-cycled %.2e off; RMS gap %.2e; "
+              "largest single-bond gap %.2e of the largest; position gap %.3g m = %.2e fiber "
+              "diameters\n",
+              peak_ref, e_peak, e_rms, relative_gap(s_ref, s_got), gap, gap / (2 * kR));
+  EXPECT_LT(e_peak, 0.05);
+  EXPECT_LT(e_rms, 0.05);
   EXPECT_LT(gap, 0.05 * 2 * kR) << "fibers moved apart by more than 5 % of a diameter";
   EXPECT_GT(travel, 0.0);
 }
