@@ -172,9 +172,10 @@ void check_cantilever() {
   const double err = -(ps.x.back() - x0)[1] / delta_target - 1;
   const double l = 2 * kR, n2 = n_bonds * n_bonds;
   const double expected = -0.25 / n2 + 3 * sys.params.kbar_star * I / A / (l * l * n2);
-  std::printf("glass cantilever sub-cycled D=%d: err %.3e (chain's own %.3e), %ld steps of %.3g s, "
-              "%ld inner each\n",
-              D, err, expected, steps, dt, static_cast<long>(dem_bond_substeps(sys.params, dt)));
+  std::printf(
+      "glass cantilever sub-cycled D=%d: err %.3e (chain's own %.3e), %ld steps of %.3g s, "
+      "%ld inner each\n",
+      D, err, expected, steps, dt, static_cast<long>(dem_bond_substeps(sys.params, dt)));
   EXPECT_GT(dem_bond_substeps(sys.params, dt), 10);
   EXPECT_LT(std::abs(err), 0.05);
   EXPECT_NEAR(err, expected, 5e-4);
@@ -214,8 +215,8 @@ std::vector<FiberRow> coupled_box(const Comm& comm, const std::string& integrati
   const auto& f = sim.dem()->particles();
   std::vector<FiberRow> rows;
   for (std::size_t i = 0; i < f.n_owned; ++i) {
-    rows.push_back({f.gid[i],
-                    {f.x[i][0], f.x[i][1], f.v[i][0], f.v[i][1], f.omega[i][0], peak[f.gid[i]]}});
+    rows.push_back(
+        {f.gid[i], {f.x[i][0], f.x[i][1], f.v[i][0], f.v[i][1], f.omega[i][0], peak[f.gid[i]]}});
   }
   return testing_mpi::gather_rows(comm, rows);
 }
@@ -241,8 +242,8 @@ TEST(GlassBonds, CoupledBoxSubcycledMatchesExplicit) {
   for (std::size_t k = 0; k < ref.size(); ++k) {
     s_ref.push_back(ref[k].value[5]);
     s_got.push_back(one[k].value[5]);
-    gap = std::max(gap, std::hypot(one[k].value[0] - ref[k].value[0],
-                                   one[k].value[1] - ref[k].value[1]));
+    gap = std::max(
+        gap, std::hypot(one[k].value[0] - ref[k].value[0], one[k].value[1] - ref[k].value[1]));
     travel = std::max(travel, std::hypot(ref[k].value[2], ref[k].value[3]));
   }
   // The bond stresses of these free fibers are mostly the ring-down of
@@ -258,10 +259,11 @@ TEST(GlassBonds, CoupledBoxSubcycledMatchesExplicit) {
     r2 += s_ref[k] * s_ref[k];
   }
   const double e_peak = std::abs(peak_got / peak_ref - 1), e_rms = std::sqrt(d2 / r2);
-  std::printf("coupled glass box: largest bond stress %.4g Pa, sub-cycled %.2e off; RMS gap %.2e; "
-              "largest single-bond gap %.2e of the largest; position gap %.3g m = %.2e fiber "
-              "diameters\n",
-              peak_ref, e_peak, e_rms, relative_gap(s_ref, s_got), gap, gap / (2 * kR));
+  std::printf(
+      "coupled glass box: largest bond stress %.4g Pa, sub-cycled %.2e off; RMS gap %.2e; "
+      "largest single-bond gap %.2e of the largest; position gap %.3g m = %.2e fiber "
+      "diameters\n",
+      peak_ref, e_peak, e_rms, relative_gap(s_ref, s_got), gap, gap / (2 * kR));
   EXPECT_LT(e_peak, 0.05);
   EXPECT_LT(e_rms, 0.05);
   EXPECT_LT(gap, 0.05 * 2 * kR) << "fibers moved apart by more than 5 % of a diameter";

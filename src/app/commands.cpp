@@ -7,9 +7,9 @@
 #include <iostream>
 #include <optional>
 
+#include "fiber_cost.hpp"
 #include "memory_guard.hpp"
 #include "output_dir.hpp"
-#include "fiber_cost.hpp"
 #include "output_interval.hpp"
 #include "partition_command.hpp"
 #include "scaling_command.hpp"
@@ -230,10 +230,9 @@ int check_case(const Case& c, const Comm& comm, const CaseSize& size) {
         sim.placement().fibers, sim.dem()->global_count(), 100 * sim.placement().fraction,
         sim.dem_dt(), sub, 2.2 * seconds);
     print_coupled_window(coupled_window<D>(c, sim, ts.dt), c, std::cout);
-    check_fiber_cost(c,
-                     fiber_cost(c, ts.dt, sim.dem_dt(), sim.fibers()->bond_dt(),
-                                sim.dem()->global_count()),
-                     std::cout);
+    check_fiber_cost(
+        c, fiber_cost(c, ts.dt, sim.dem_dt(), sim.fibers()->bond_dt(), sim.dem()->global_count()),
+        std::cout);
   }
   print_estimate(size, comm);
   print_settings(c);

@@ -156,7 +156,8 @@ void dem_subcycled_step(const DemParams<D>& p, double dt, std::int64_t inner,
   const std::size_t n = ps.n_owned;
   ws.held_force.assign(ps.force.begin(), ps.force.begin() + static_cast<std::ptrdiff_t>(n));
   ws.held_torque.assign(ps.torque.begin(), ps.torque.begin() + static_cast<std::ptrdiff_t>(n));
-  ws.held_drag.assign(ps.drag_force.begin(), ps.drag_force.begin() + static_cast<std::ptrdiff_t>(n));
+  ws.held_drag.assign(ps.drag_force.begin(),
+                      ps.drag_force.begin() + static_cast<std::ptrdiff_t>(n));
   compute_dem_slow_forces(p, dt, walls, ps, ws);
   dem_slow_correction(dt, ps, ws);
 }
@@ -180,18 +181,17 @@ double stable_dem_contact_dt(const DemParams<D>& p, const DemParticles<D>& ps) {
   return p.dt_safety * dt;
 }
 
-#define SPHDEM_DEM_INSTANTIATE(D)                                                               \
-  template void compute_dem_bond_forces<D>(const DemParams<D>&, double, DemParticles<D>&,       \
-                                           DemWorkspace<D>&);                                   \
-  template void compute_dem_slow_forces<D>(const DemParams<D>&, double,                         \
-                                           const std::vector<DemWall<D>>&, DemParticles<D>&,    \
-                                           DemWorkspace<D>&);                                   \
-  template void dem_drift<D>(double, std::vector<DemWall<D>>&, DemParticles<D>&);               \
-  template double stable_dem_contact_dt<D>(const DemParams<D>&, const DemParticles<D>&);      \
-  template void dem_subcycled_step<D>(const DemParams<D>&, double, std::int64_t,                \
-                                      std::vector<DemWall<D>>&, DemParticles<D>&,               \
-                                      DemWorkspace<D>&, const std::function<void()>&,           \
-                                      const std::function<void()>&);                            \
+#define SPHDEM_DEM_INSTANTIATE(D)                                                            \
+  template void compute_dem_bond_forces<D>(const DemParams<D>&, double, DemParticles<D>&,    \
+                                           DemWorkspace<D>&);                                \
+  template void compute_dem_slow_forces<D>(const DemParams<D>&, double,                      \
+                                           const std::vector<DemWall<D>>&, DemParticles<D>&, \
+                                           DemWorkspace<D>&);                                \
+  template void dem_drift<D>(double, std::vector<DemWall<D>>&, DemParticles<D>&);            \
+  template double stable_dem_contact_dt<D>(const DemParams<D>&, const DemParticles<D>&);     \
+  template void dem_subcycled_step<D>(                                                       \
+      const DemParams<D>&, double, std::int64_t, std::vector<DemWall<D>>&, DemParticles<D>&, \
+      DemWorkspace<D>&, const std::function<void()>&, const std::function<void()>&);         \
   template std::int64_t dem_bond_substeps<D>(const DemParams<D>&, double);
 SPHDEM_DEM_INSTANTIATE(2)
 SPHDEM_DEM_INSTANTIATE(3)

@@ -142,8 +142,8 @@ void DemSystem<D>::step(double dt) {
       }
     };
     if (!ws_.pairs_valid) dem_build_pairs(params, walls, particles, ws_);
-    dem_subcycled_step(params, dt, dem_bond_substeps(params, dt), walls, particles, ws_, [] {},
-                       settle);
+    dem_subcycled_step(
+        params, dt, dem_bond_substeps(params, dt), walls, particles, ws_, [] {}, settle);
   } else {
     dem_step(params, dt, walls, particles, ws_);
   }

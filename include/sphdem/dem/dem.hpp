@@ -201,8 +201,8 @@ void dem_drift(double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps);
 // One outer step of dt: `inner` velocity-Verlet steps of dt/inner under
 // the bonds plus the slow forces held (refresh_ghosts after each drift),
 // settle() (the rebuild vote: rebuild or refresh the ghosts), slow forces
-// at the new state and their trapezoid correction dt/2 (F_new - F_held)/m. The serial and the decomposed
-// drivers differ only in the two hooks.
+// at the new state and their trapezoid correction dt/2 (F_new - F_held)/m. The serial and the
+// decomposed drivers differ only in the two hooks.
 template <int D>
 void dem_subcycled_step(const DemParams<D>& p, double dt, std::int64_t inner,
                         std::vector<DemWall<D>>& walls, DemParticles<D>& ps, DemWorkspace<D>& ws,
