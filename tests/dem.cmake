@@ -102,3 +102,9 @@ endif()
 sphdem_test(test_glass_bonds SOURCES test_glass_bonds.cpp RANKS 1 2 LABELS "validation;dem"
             TIMEOUT 300
             ONE_RANK_TESTS "GlassBonds.SubcycledMatches*:GlassBonds.Cantilever*")
+# `sphdem check` on glass: the explicit bonds' warning and the refusal of a
+# DEM longer than a day, both naming fibers.youngs_modulus.
+add_test(NAME glass_check_cost
+         COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_glass_cost.py
+                 $<TARGET_FILE:sphdem> ${PROJECT_SOURCE_DIR})
+set_tests_properties(glass_check_cost PROPERTIES LABELS "dem;cli" TIMEOUT 300)
