@@ -95,3 +95,16 @@ if(SPHDEM_PVPYTHON)
   set_tests_properties(fibers_only_3d_paraview PROPERTIES LABELS "dem;cli;io;paraview" TIMEOUT 120
                                                           FIXTURES_REQUIRED fibers_only_3d_output)
 endif()
+
+# Glass fibers with bond sub-cycling (docs/dem.md, "Bond sub-cycling"):
+# against the explicit integrator at E = 72 GPa (a fiber in shear drag,
+# the cantilever, a coupled box) and, on 2 ranks, bitwise the 1-rank run.
+sphdem_test(test_glass_bonds SOURCES test_glass_bonds.cpp RANKS 1 2 LABELS "validation;dem"
+            TIMEOUT 300
+            ONE_RANK_TESTS "GlassBonds.SubcycledMatches*:GlassBonds.Cantilever*")
+# `sphdem check` on glass: the explicit bonds' warning and the refusal of a
+# DEM longer than a day, both naming fibers.youngs_modulus.
+add_test(NAME glass_check_cost
+         COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_glass_cost.py
+                 $<TARGET_FILE:sphdem> ${PROJECT_SOURCE_DIR})
+set_tests_properties(glass_check_cost PROPERTIES LABELS "dem;cli" TIMEOUT 300)

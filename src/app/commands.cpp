@@ -7,6 +7,7 @@
 #include <iostream>
 #include <optional>
 
+#include "fiber_cost.hpp"
 #include "memory_guard.hpp"
 #include "output_dir.hpp"
 #include "output_interval.hpp"
@@ -246,6 +247,9 @@ int check_case(const Case& c, const Comm& comm, const CaseSize& size) {
         sim.placement().fibers, sim.dem()->global_count(), 100 * sim.placement().fraction,
         sim.dem_dt(), sub, 2.2 * seconds);
     print_coupled_window(coupled_window<D>(c, sim, ts.dt), c, std::cout);
+    check_fiber_cost(
+        c, fiber_cost(c, ts.dt, sim.dem_dt(), sim.fibers()->bond_dt(), sim.dem()->global_count()),
+        std::cout);
   }
   print_estimate(size, comm.size());
   print_settings(c);

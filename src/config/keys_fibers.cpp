@@ -99,6 +99,22 @@ Key<F> seed() {
   return k;
 }
 
+Key<F> bond_integration() {
+  Key<F> k{"bond_integration",
+           "enum",
+           "",
+           "explicit",
+           "explicit or subcycled",
+           "explicit: every DEM force at the stable step of the bonds; subcycled: the bonds in "
+           "inner steps of that size, contacts, walls and drag at the contacts' stable step "
+           "(glass fibers at an affordable cost, `docs/dem.md` \"Bond sub-cycling\")"};
+  k.read = [](const Value& v, F& f, Context&) {
+    f.subcycle_bonds = one_of(v, {"explicit", "subcycled"}) == "subcycled";
+  };
+  k.show = [](const F& f) { return f.subcycle_bonds ? "subcycled" : "explicit"; };
+  return k;
+}
+
 Section<F> make_fibers() {
   Section<F> s;
   s.keys = {
@@ -146,6 +162,7 @@ Section<F> make_fibers() {
              "DEM step = dt_safety x min sqrt(m/k) (`docs/dem.md`); stable up to about 1.2 (a "
              "warning above)")
           .identity(),
+      bond_integration().identity(),
       number("void_fraction_min", "", in_range(0, 1, true, true), &F::void_fraction_min,
              "the local void fraction is clipped to [void_fraction_min, 1] (coupled runs, "
              "`docs/physics.md` \"Coupling\")")

@@ -134,7 +134,19 @@ const DemBond<D>* DemSystem<D>::bond(std::int64_t a, std::int64_t b) const {
 
 template <int D>
 void DemSystem<D>::step(double dt) {
-  dem_step(params, dt, walls, particles, ws_);
+  if (params.subcycle_bonds) {
+    const auto settle = [&] {
+      if (dem_max_displacement2(particles, walls, ws_) > 0.25 * ws_.skin * ws_.skin) {
+        dem_store_pair_state(particles, ws_);
+        dem_build_pairs(params, walls, particles, ws_);
+      }
+    };
+    if (!ws_.pairs_valid) dem_build_pairs(params, walls, particles, ws_);
+    dem_subcycled_step(
+        params, dt, dem_bond_substeps(params, dt), walls, particles, ws_, [] {}, settle);
+  } else {
+    dem_step(params, dt, walls, particles, ws_);
+  }
   // Serial: keep the slots current after every step, for the tests' eyes.
   dem_store_pair_state(particles, ws_);
   time_ += dt;

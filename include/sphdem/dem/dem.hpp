@@ -6,6 +6,7 @@
 // in src/dem/terms/, one per header; the loops are in src/dem/dem_pair_list.cpp, dem_forces.cpp and
 // dem_stable_step.cpp. Nothing here knows about ranks.
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -33,6 +34,11 @@ struct DemParams {
   Vec<D> gravity = Vec<D>::Zero();  // [m/s^2]
   double global_damping = 0;        // [1/s]: F -= gamma m v, T -= gamma I omega
   double dt_safety = 0.2;           // dt = dt_safety * min sqrt(m/k) (stable_dem_dt)
+  // Bond sub-cycling (docs/dem.md, "Bond sub-cycling"): the bonds advance in
+  // inner steps of at most bond_dt within each step, everything else
+  // (contacts, walls, drag, body and external forces) at the step.
+  bool subcycle_bonds = false;
+  double bond_dt = 0;  // [s] the inner step's bound (stable_dem_dt), set by the driver
 };
 
 // The contact stiffness of docs/dem.md: a fraction of the bond's axial
@@ -117,6 +123,12 @@ struct DemWorkspace {
   // wall_items[wall_start[i] .. wall_start[i+1]), and the walls' positions then.
   std::vector<std::int32_t> wall_start, wall_items;
   std::vector<Vec<D>> wall_ref;
+  // Bond sub-cycling: the bonds' force and torque on each owned particle.
+  std::vector<Vec<D>> bond_force;
+  std::vector<Rot<D>> bond_torque;
+  // The slow forces held over the outer step (for its trapezoid correction).
+  std::vector<Vec<D>> held_force, held_drag;
+  std::vector<Rot<D>> held_torque;
   void invalidate() { pairs_valid = forces_valid = false; }
 };
 
@@ -169,6 +181,41 @@ void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemW
 template <int D>
 void dem_step(const DemParams<D>& p, double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps,
               DemWorkspace<D>& ws);
+
+// Bond sub-cycling (docs/dem.md, "Bond sub-cycling"), the pieces of the
+// parallel driver's impulse multiple-time-step: the bonds' force and torque
+// alone at the current state into ws.bond_force/bond_torque (bond state
+// advanced by the half-step velocities times dt, 0 for an evaluation that
+// only reads); the slow forces (everything but the intact bonds) into force
+// and torque, contact springs advanced by the velocities times dt.
+template <int D>
+void compute_dem_bond_forces(const DemParams<D>& p, double dt, DemParticles<D>& ps,
+                             DemWorkspace<D>& ws);
+template <int D>
+void compute_dem_slow_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
+                             DemParticles<D>& ps, DemWorkspace<D>& ws);
+// x += dt v for the owned particles, walls by their velocity.
+template <int D>
+void dem_drift(double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps);
+
+// One outer step of dt: `inner` velocity-Verlet steps of dt/inner under
+// the bonds plus the slow forces held (refresh_ghosts after each drift),
+// settle() (the rebuild vote: rebuild or refresh the ghosts), slow forces
+// at the new state and their trapezoid correction dt/2 (F_new - F_held)/m. The serial and the
+// decomposed drivers differ only in the two hooks.
+template <int D>
+void dem_subcycled_step(const DemParams<D>& p, double dt, std::int64_t inner,
+                        std::vector<DemWall<D>>& walls, DemParticles<D>& ps, DemWorkspace<D>& ws,
+                        const std::function<void()>& refresh_ghosts,
+                        const std::function<void()>& settle);
+// Inner steps per outer step of dt: ceil(dt / bond_dt), at least 1.
+template <int D>
+std::int64_t dem_bond_substeps(const DemParams<D>& p, double dt);
+
+// The stable step of everything but the bonds (the contact springs, one
+// per particle): the outer step of bond sub-cycling.
+template <int D>
+double stable_dem_contact_dt(const DemParams<D>& p, const DemParticles<D>& ps);
 
 // dt_safety * min over particles of sqrt(m / k_trans) and sqrt(I / k_rot),
 // k summed over the particle's bonds plus one contact (docs/dem.md).

@@ -64,6 +64,7 @@ class DemDomain {
   void forward(DemGroup group) { halo_.forward(ps_, group); }
 
  private:
+  void advance_subcycled(std::int64_t n, double dt);
   const Decomposition<D>& dec_;
   DemParams<D> params_;
   std::vector<DemWall<D>> walls_;

@@ -70,6 +70,9 @@ class FiberModule final : public Module<D> {
   DemDomain<D>& dem() { return *dem_; }
   const FiberPlacement& placement() const { return placement_; }
   double dem_dt() const { return dem_dt_; }  // the stable DEM step
+  // The bonds' stable step: dem_dt() when explicit, the inner step when
+  // the bonds are sub-cycled (docs/dem.md, "Bond sub-cycling").
+  double bond_dt() const { return bond_dt_; }
   // Coupled: the sub-steps of the last resin step, and that step (whose
   // drag impulse the next coupling pass returns).
   std::int64_t substeps() const { return substeps_; }
@@ -90,7 +93,7 @@ class FiberModule final : public Module<D> {
   Box<D> health_box_;                          // a fiber particle outside it ends the run
   std::unique_ptr<Decomposition<D>> own_dec_;  // alone: the fibers' own cells
   std::unique_ptr<DemDomain<D>> dem_;
-  double dem_dt_ = 0;
+  double dem_dt_ = 0, bond_dt_ = 0;
   std::int64_t substeps_ = 0;
   double coupled_dt_ = 0;
   double drag_time_ = 0;
