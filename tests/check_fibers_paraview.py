@@ -13,8 +13,9 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from check_paraview import leaves  # noqa: E402
 
-CELL_ARRAYS = ["bond_tensile_stress", "bond_shear_stress", "broken", "fiber", "fiber_direction"]
-POINT_ARRAYS = ["id", "velocity", "radius", "fiber", "angular_velocity"]
+CELL_ARRAYS = ["bond_tensile_stress", "bond_shear_stress", "broken", "fiber", "fiber_direction",
+               "bond_tensile_stress_max", "bond_tensile_stress_interval_max", "piece"]
+POINT_ARRAYS = ["id", "velocity", "radius", "fiber", "angular_velocity", "piece", "piece_length"]
 
 
 def check_block(fail, where, block, n_points, n_cells, cell_type):

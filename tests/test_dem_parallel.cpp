@@ -61,7 +61,7 @@ DemSystem<D> make_system(int fibers, double tensile_strength) {
 
 struct Row {
   std::int64_t gid = 0;
-  double value[12] = {};  // x, v, omega, bond sigma of slot 0
+  double value[16] = {};  // x, v, omega, bond sigma of slot 0, broken, its peaks
 };
 
 template <int D>
@@ -76,6 +76,9 @@ std::vector<Row> gather(const Comm& comm, const DemParticles<D>& ps) {
     for (int d = 0; d < ps.omega[i].size(); ++d) r.value[k++] = ps.omega[i][d];
     r.value[k++] = ps.bonds[i][0].sigma;
     r.value[k++] = ps.bonds[i][0].broken ? 1.0 : 0.0;
+    const BondPeak& peak = ps.bond_peaks[i][0];
+    for (double v : {peak.sigma_run, peak.tau_run, peak.sigma_interval, peak.tau_interval})
+      r.value[k++] = v;
     mine.push_back(r);
   }
   return testing_mpi::gather_rows(comm, mine);

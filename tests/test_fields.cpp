@@ -224,10 +224,11 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   for (const CheckpointColumn& c : checkpoint_columns(DemParticles<2>{})) dem.push_back(c.name);
   EXPECT_EQ(sph, (std::vector<std::string>{"gid", "kind", "wall", "mass", "wall_to_surface", "x",
                                            "v", "rho", "a", "drho"}));
-  EXPECT_EQ(dem, (std::vector<std::string>{"gid", "fiber", "fixed", "radius", "mass", "inertia",
-                                           "x", "v", "omega", "force", "torque", "f_ext",
-                                           "drag_coeff", "drag_velocity", "drag_force",
-                                           "drag_impulse", "bonds", "contacts", "wall_contacts"}));
+  EXPECT_EQ(dem, (std::vector<std::string>{
+                     "gid",          "fiber", "fixed",      "radius",        "mass",
+                     "inertia",      "x",     "v",          "omega",         "force",
+                     "torque",       "f_ext", "drag_coeff", "drag_velocity", "drag_force",
+                     "drag_impulse", "bonds", "bond_peaks", "contacts",      "wall_contacts"}));
 }
 
 }  // namespace

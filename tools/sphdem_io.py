@@ -9,9 +9,11 @@ particle set (rows in global-id order, vectors stored with 3 components):
 
   /fluid/{id, position, velocity, density, pressure, ...}   resin (SPH)
   /wall/{id, position, ...}                                  wall particles
-  /dem/{id, position, velocity, angular_velocity, radius, fiber}
-  /dem/lines/{id, nodes, bond_tensile_stress, bond_shear_stress, broken,
-              fiber, fiber_direction}                        one row per bond
+  /dem/{id, position, velocity, angular_velocity, radius, fiber,
+        piece, piece_length}                                  piece: the fiber now
+  /dem/lines/{id, nodes, bond_tensile_stress, bond_shear_stress,
+              bond_{tensile,shear}_stress{,_interval}_max, broken,
+              fiber, piece, fiber_direction}                 one row per bond
 
 `/dem/lines/nodes` holds the two particles' row numbers in /dem. A set with
 no particles is absent. The tools are for 2D runs (they use x and y).

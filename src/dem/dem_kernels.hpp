@@ -197,7 +197,9 @@ void evaluate_pair(const DemParams<D>& p, double dt, DemParticles<D>& ps, DemPai
         terms::bond_motion<D>(d, dist, (ps.v[j] - ps.v[i]) * dt, ps.omega[i] * dt, ps.omega[j] * dt,
                               ri - 0.5 * delta, rj - 0.5 * delta);
     const terms::BondLaw law = bond_law(p, ri, rj, bond->rbar);
-    if (!terms::parallel_bond_update<D>(law, bond->rbar, motion, *bond)) return;
+    const bool intact = terms::parallel_bond_update<D>(law, bond->rbar, motion, *bond);
+    ps.bond_peaks[i][static_cast<std::size_t>(pr.bond)].record(bond->sigma, bond->tau);
+    if (!intact) return;
     pr.f = bond->fn * nv + bond->fs;
     couple = bond->mb;
     if constexpr (D == 3) couple += bond->mt * nv;

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "initial_fields.hpp"
+#include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/geometry/geometry.hpp"
 #include "sphdem/sph/eos.hpp"
@@ -37,9 +38,9 @@ Lattice<D> make_lattice(const Case& c, const Box<D>& dom) {
     if (c.periodic[k]) {
       const double cells = (dom.hi[k] - dom.lo[k]) / L.dx;
       if (std::abs(cells - std::round(cells)) > 1e-6) {
-        throw InputError(c.source_file, 0, "domain",
-                         "a periodic length must be a whole number of spacings (got " +
-                             std::to_string(cells) + " spacings)");
+        throw input_error_at(c, "domain",  // names the file and line of the key
+                             "a periodic length must be a whole number of spacings (got " +
+                                 std::to_string(cells) + " spacings)");
       }
     }
   }

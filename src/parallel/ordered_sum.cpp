@@ -6,8 +6,7 @@
 
 namespace sphdem {
 
-std::vector<KeySum> ordered_sums(const Comm& comm, const std::vector<OrderedTerm>& terms,
-                                 std::size_t keys) {
+std::vector<OrderedTerm> gather_terms(const Comm& comm, const std::vector<OrderedTerm>& terms) {
   static_assert(sizeof(OrderedTerm) == 24, "OrderedTerm travels as raw bytes");
   const int n_ranks = comm.size();
   const int bytes = static_cast<int>(terms.size() * sizeof(OrderedTerm));
@@ -21,6 +20,12 @@ std::vector<KeySum> ordered_sums(const Comm& comm, const std::vector<OrderedTerm
   std::sort(all.begin(), all.end(), [](const OrderedTerm& a, const OrderedTerm& b) {
     return a.order != b.order ? a.order < b.order : a.key < b.key;
   });
+  return all;
+}
+
+std::vector<KeySum> ordered_sums(const Comm& comm, const std::vector<OrderedTerm>& terms,
+                                 std::size_t keys) {
+  const std::vector<OrderedTerm> all = gather_terms(comm, terms);
   std::vector<KeySum> out(keys);
   for (const OrderedTerm& t : all) {
     if (t.key < 0 || static_cast<std::size_t>(t.key) >= keys)

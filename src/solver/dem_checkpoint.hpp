@@ -83,6 +83,16 @@ struct DemCheckpoint {
   std::vector<DemWall<D>> walls;
 };
 
+// A checkpoint written before the bond stress peaks were kept (same format,
+// docs/checkpoint.md) has no column "bond_peaks": its peaks start at zero.
+inline void add_missing_bond_peaks(std::vector<CheckpointColumn>& cols, std::size_t rows) {
+  for (const CheckpointColumn& c : cols)
+    if (c.name == "bond_peaks") return;
+  CheckpointColumn c{"bond_peaks", ColumnType::Bytes, 1, sizeof(BondPeakSlots), {}};
+  c.data.assign(rows * sizeof(BondPeakSlots), 0);
+  cols.push_back(std::move(c));
+}
+
 // Reads the fibers of checkpoint `path` for the domain `dem` (collective);
 // InputError naming `path` when the particle count or the walls differ from
 // the case's.
@@ -95,8 +105,9 @@ DemCheckpoint<D> read_dem_checkpoint(CheckpointReader& r, const DemDomain<D>& de
     throw InputError(path, 0, "",
                      fmt::format("the checkpoint holds {} DEM particles, the case makes {}", n,
                                  dem.global_count()));
-  assign_checkpoint_columns(out.particles, r.particles("dem", /*all_rows=*/true),
-                            static_cast<std::size_t>(n), path);
+  std::vector<CheckpointColumn> cols = r.particles("dem", /*all_rows=*/true);
+  add_missing_bond_peaks(cols, static_cast<std::size_t>(n));
+  assign_checkpoint_columns(out.particles, cols, static_cast<std::size_t>(n), path);
   out.walls = dem.walls();
   if (!set_dem_wall_state(out.walls, r.reals("dem_walls")))
     throw InputError(path, 0, "", "the checkpoint's DEM walls do not match the case's");

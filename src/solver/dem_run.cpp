@@ -203,6 +203,10 @@ void FiberModule<D>::snapshot(SnapshotParts& parts) {
   auto buf = std::make_shared<const DemSnapshotBuffers<D>>(dem_->particles(), ctx_.comm);
   parts.views.push_back(buf->view());
   parts.buffers.push_back(std::move(buf));
+  // The next snapshot's interval peaks start now (a checkpoint of this step
+  // is written after the snapshot, so a restart resumes the same interval).
+  for (BondPeakSlots& slots : dem_->particles().bond_peaks)
+    for (BondPeak& peak : slots) peak.start_interval();
 }
 
 // Alone: the piston's speed (a coupled run reports the resin's piston).

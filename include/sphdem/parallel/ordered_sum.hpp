@@ -27,6 +27,10 @@ struct KeySum {
 // Collective (MPI_Allgatherv): per key, the sum of its terms over all ranks
 // in increasing `order`, and how many there were. Every rank gets the same
 // result. Meant for small sets (a few thousand terms per step).
+// Collective (MPI_Allgatherv): every rank's terms, on every rank, sorted
+// by (order, key): the same list at any rank count.
+std::vector<OrderedTerm> gather_terms(const Comm& comm, const std::vector<OrderedTerm>& terms);
+
 std::vector<KeySum> ordered_sums(const Comm& comm, const std::vector<OrderedTerm>& terms,
                                  std::size_t keys);
 

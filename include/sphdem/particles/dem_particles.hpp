@@ -65,6 +65,26 @@ struct DemBond {
   double tau = 0;              // max shear stress [Pa]
 };
 
+// The largest stresses one bond has seen (docs/dem.md, "Bond stress
+// peaks"), taken at every evaluation of the bond, i.e. every DEM sub-step
+// (the stress that broke it included): over the whole run and over the
+// current output interval (reset after each snapshot). Kept beside the bond
+// slots, not in DemBond, so that the bond record of older checkpoints keeps
+// its size.
+struct BondPeak {
+  double sigma_run = 0;       // max tensile stress since t = 0 [Pa]
+  double tau_run = 0;         // max shear stress since t = 0 [Pa]
+  double sigma_interval = 0;  // max tensile stress since the last snapshot [Pa]
+  double tau_interval = 0;    // max shear stress since the last snapshot [Pa]
+  void record(double sigma, double tau) {
+    sigma_run = sigma > sigma_run ? sigma : sigma_run;
+    tau_run = tau > tau_run ? tau : tau_run;
+    sigma_interval = sigma > sigma_interval ? sigma : sigma_interval;
+    tau_interval = tau > tau_interval ? tau : tau_interval;
+  }
+  void start_interval() { sigma_interval = tau_interval = 0; }
+};
+
 // Tangential history of one contact, stored on its owner.
 template <int D>
 struct DemContact {
@@ -92,6 +112,7 @@ inline constexpr int kMaxWallContacts = D == 2 ? 4 : 6;
 
 template <int D>
 using BondSlots = std::array<DemBond<D>, kMaxBonds>;
+using BondPeakSlots = std::array<BondPeak, kMaxBonds>;  // one per bond slot
 template <int D>
 using ContactSlots = std::array<DemContact<D>, kMaxContacts<D>>;
 template <int D>
@@ -140,6 +161,8 @@ enum class DemGroup : std::uint8_t { State = 0, Coupling = 1 };
   X(Vec<D>, drag_impulse, kMigrate | kCheckpoint)                                                \
   /* Owned interaction state (owner rule above). */                                              \
   X(BondSlots<D>, bonds, kGhost | kMigrate | kCheckpoint)                                        \
+  /* Peaks of the owned bonds, slot by slot (ghosts' copies are scratch). */                     \
+  X(BondPeakSlots, bond_peaks, kMigrate | kCheckpoint)                                           \
   X(ContactSlots<D>, contacts, kGhost | kMigrate | kCheckpoint)                                  \
   X(WallContactSlots<D>, wall_contacts, kMigrate | kCheckpoint)                                  \
   /* The coupling pass's results (coupling_loops.hpp), recomputed every */                       \
