@@ -52,6 +52,11 @@ Section<Resin> make_resin() {
       input_only("mach", "", "Mach number, with reference_velocity instead of sound_speed"),
       input_only("reference_velocity", "m/s", "the flow's speed scale, with mach"),
       number("gamma", "", positive_number(), &Resin::gamma, "Tait exponent").identity(),
+      number("ambient_pressure", "Pa", non_negative_number(), &Resin::ambient_pressure,
+             "air pressure added to the Tait pressure, so that a free surface or a "
+             "decelerating piston does not pull the resin into tension; see "
+             "`docs/physics.md`")
+          .identity(),
   };
   s.finish = finish_sound_speed;
   s.notes =
@@ -143,6 +148,17 @@ Section<Numerics> make_numerics() {
           .identity(),
       integer("anti_clump_exponent", "", 1, &N::anti_clump_exponent,
               "exponent of the anti-clump term")
+          .identity(),
+      boolean("particle_shifting", &N::particle_shifting,
+              "shift resin particles down the gradient of their concentration (Lind et al. "
+              "2012), tangentially at the free surface; see `docs/physics.md`")
+          .identity(),
+      number("shifting_coefficient", "", in_range(0, 6, kOpen, kClosed), &N::shifting_coefficient,
+             "A of the shift -A h |v| dt grad C (Skillen et al. 2013: 1 to 6)")
+          .identity(),
+      boolean("wall_repulsion", &N::wall_repulsion,
+              "a short-range repulsion of the wall particles on resin closer than dp/2 "
+              "(Monaghan 1994): no resin crosses a wall in an impact; see `docs/physics.md`")
           .identity(),
       number("neighbor_skin", "", in_range(0, 1, kClosed, kOpen), &N::neighbor_skin,
              "Verlet skin as a fraction of the support 2h")
