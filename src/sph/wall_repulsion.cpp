@@ -1,5 +1,5 @@
 // The wall's short-range repulsion (numerics.wall_repulsion, docs/physics.md
-// "Jet impacts"): a resin particle i closer than r0 = 0.75 dp to a wall
+// "Jet impacts"): a resin particle i closer than r0 = 0.9 dp to a wall
 // particle j is pushed away by the Lennard-Jones boundary force of
 // Monaghan (1994, JCP 110:399),
 //   a_i += D ((r0/r)^12 - (r0/r)^4) x_ij / r^2,   D = c0^2,
@@ -19,7 +19,7 @@ namespace sphdem {
 template <int D>
 void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
   if (!sp.wall_repulsion) return;
-  const double r0 = 0.75 * sp.spacing;
+  const double r0 = 0.9 * sp.spacing;
   const double r0_2 = r0 * r0;
   const double strength = sp.c0 * sp.c0;
   const std::int32_t* nb = nl.indices();
