@@ -218,7 +218,8 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::Coupling), 8u * 4);
   EXPECT_EQ(sph_output_fields(),
             (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "pressure",
-                                      "acceleration", "shear_rate"}));
+                                      "acceleration", "shear_rate", "free_surface",
+                                      "surface_normal", "position_divergence"}));
   std::vector<std::string> sph, dem;
   for (const CheckpointColumn& c : checkpoint_columns(SphParticles<2>{})) sph.push_back(c.name);
   for (const CheckpointColumn& c : checkpoint_columns(DemParticles<2>{})) dem.push_back(c.name);

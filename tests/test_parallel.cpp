@@ -230,6 +230,12 @@ TEST(RankIndependence, TaylorGreen) {
   expect_rank_independent<2>(load("validation/taylor_green.yaml", {}), 200);
 }
 
+// The free-surface dam break (issue 18 part 2): the free-surface pass,
+// particle shifting and the wall repulsion at artificial viscosity 0.02.
+TEST(RankIndependence, DamBreakFreeSurface) {
+  expect_rank_independent<2>(load("validation/dam_break_front.yaml", {}), 300);
+}
+
 TEST(RankIndependence, DamBreakWithForcedRebalancing) {
   expect_rank_independent<2>(load("validation/dam_break.yaml",
                                   {"parallel.balance_every=10", "parallel.imbalance_threshold=0"}),

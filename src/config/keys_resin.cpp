@@ -34,6 +34,19 @@ Key<Resin> input_only(std::string name, std::string unit, std::string doc) {
   return k;
 }
 
+// A setting (and identity line) only when it differs from its default, so
+// that a case that leaves the key alone keeps the identity lines of older
+// checkpoints (keys added with issue 18's free surface).
+template <class T>
+Key<T> unless_default(Key<T> k) {
+  const auto show = k.show;
+  k.section_settings = [show](const T& t, const std::string& key, std::vector<Setting>& out) {
+    std::string value = show(t);
+    if (value != show(T{})) out.push_back({key, std::move(value), true, false});
+  };
+  return k;
+}
+
 Section<Resin> make_resin() {
   Section<Resin> s;
   s.keys = {
@@ -51,6 +64,12 @@ Section<Resin> make_resin() {
       input_only("mach", "", "Mach number, with reference_velocity instead of sound_speed"),
       input_only("reference_velocity", "m/s", "the flow's speed scale, with mach"),
       number("gamma", "", positive_number(), &Resin::gamma, "Tait exponent").identity(),
+      unless_default(number("ambient_pressure", "Pa", non_negative_number(),
+                            &Resin::ambient_pressure,
+                            "air pressure added to the Tait pressure, so that a free surface or a "
+                            "decelerating piston does not pull the resin into tension; see "
+                            "`docs/physics.md`")
+                         .identity()),
   };
   s.finish = [](const Map& m, Resin& r, Context& ctx) {
     finish_sound_speed(m, r, ctx);
@@ -157,6 +176,20 @@ Section<Numerics> make_numerics() {
       integer("anti_clump_exponent", "", 1, &N::anti_clump_exponent,
               "exponent of the anti-clump term")
           .identity(),
+      unless_default(
+          boolean("particle_shifting", &N::particle_shifting,
+                  "shift resin particles down the gradient of their concentration (Lind et al. "
+                  "2012), tangentially at the free surface; see `docs/physics.md`")
+              .identity()),
+      unless_default(number("shifting_coefficient", "", in_range(0, 6, kOpen, kClosed),
+                            &N::shifting_coefficient,
+                            "A of the shift -A h |v| dt grad C (Skillen et al. 2013: 1 to 6)")
+                         .identity()),
+      unless_default(
+          boolean("wall_repulsion", &N::wall_repulsion,
+                  "a short-range repulsion of the wall particles on resin closer than 0.9 dp "
+                  "(Monaghan 1994): no resin crosses a wall in an impact; see `docs/physics.md`")
+              .identity()),
       number("neighbor_skin", "", in_range(0, 1, kClosed, kOpen), &N::neighbor_skin,
              "Verlet skin as a fraction of the support 2h")
           .identity(),

@@ -24,7 +24,8 @@ ResinModule<D>::ResinModule(const RunContext<D>& ctx)
       timers_(ctx.timers),
       walls_(ctx.walls),
       sp_(make_sph_params(case_)),
-      eos_(case_.resin.density, case_.resin.sound_speed, case_.resin.gamma),
+      eos_(case_.resin.density, case_.resin.sound_speed, case_.resin.gamma,
+           case_.resin.ambient_pressure),
       domain_(simulation_domain<D>(case_)),
       nl_(2.0 * case_.h(), case_.numerics.neighbor_skin * 2.0 * case_.h()),
       dec_(comm_, domain_, case_.periodic, nl_.cutoff(),
@@ -221,6 +222,7 @@ void ResinModule<D>::correct(double dt) {
       ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
     }
   }
+  shift_particles<D>(sp_, dt, ps_);
 }
 
 template <int D>

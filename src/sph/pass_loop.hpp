@@ -15,6 +15,9 @@
 //   explicit P(const TermContext<D>&);   // optional: its parameters
 //   void pair(const PairView&, double* s) const;   // s[0..kSums): this pair's part
 //   template <int D> double finish(const double* sums) const;   // the particle's value
+// and optionally: also_outputs (more snapshot fields it writes), needed(sp)
+// (a step besides the terms needs it), store<D>(sums, ps, i) and clear<D>(ps, i)
+// (more fields from the same sums, and their value on walls).
 //
 // The loop is the pair loop's (pair_loop.hpp): records of the declared
 // fields, gathered lanes, a branch-free pair function over a chunk (pairs
@@ -52,7 +55,14 @@ bool term_on(const SphParams& sp) {
 template <class P, class... Ts>
 bool pass_needed(const SphParams& sp, TermList<Ts...>) {
   const auto& out = sp.output_fields;
-  const bool requested = std::find(out.begin(), out.end(), std::string_view(P::name)) != out.end();
+  const auto named = [&](std::string_view n) {
+    return std::find(out.begin(), out.end(), n) != out.end();
+  };
+  bool requested = named(P::name);
+  // Optional: more snapshot fields it writes (also_outputs), a step that needs it (needed).
+  if constexpr (requires { P::also_outputs; })
+    for (const char* n : P::also_outputs) requested = requested || named(n);
+  if constexpr (requires { P::needed(sp); }) requested = requested || P::needed(sp);
   return requested || ((reads_v<Ts, typename P::Output> && term_on<Ts>(sp)) || ...);
 }
 
@@ -98,6 +108,7 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid) {
       out[i] = 0.0;
+      if constexpr (requires { pass.template clear<D>(ps, i); }) pass.template clear<D>(ps, i);
       continue;
     }
     const double* own = rec[i].v;
@@ -127,6 +138,9 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
         for (std::size_t m = 0; m < kSums; ++m) sums[m] += part[m][k];
     }
     out[i] = pass.template finish<D>(sums);
+    // Optional: more fields from the same sums (store).
+    if constexpr (requires { pass.template store<D>(sums, ps, i); })
+      pass.template store<D>(sums, ps, i);
   }
 }
 

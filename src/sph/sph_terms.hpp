@@ -12,6 +12,7 @@
 #include "terms/artificial_viscosity.hpp"
 #include "terms/continuity.hpp"
 #include "terms/delta_sph.hpp"
+#include "terms/free_surface.hpp"
 #include "terms/pressure.hpp"
 #include "terms/shear_rate.hpp"
 #include "terms/viscosity_morris.hpp"
@@ -22,6 +23,6 @@ namespace sphdem::terms {
 using SphTerms = TermList<Continuity, DeltaSph, Pressure, ArtificialViscosity, AntiClump,
                           MorrisViscosity, VariableViscosity>;
 
-using SphPasses = PassList<ShearRatePass>;
+using SphPasses = PassList<ShearRatePass, FreeSurfacePass>;
 
 }  // namespace sphdem::terms

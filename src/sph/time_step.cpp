@@ -27,6 +27,8 @@ SphParams make_sph_params(const Case& c) {
   sp.anti_clump_eps = c.numerics.anti_clump_epsilon;
   sp.anti_clump_n = c.numerics.anti_clump_exponent;
   sp.eta2 = 0.01 * sp.h * sp.h;
+  sp.shifting = c.numerics.particle_shifting ? c.numerics.shifting_coefficient : 0.0;
+  sp.wall_repulsion = c.numerics.wall_repulsion;
   sp.body_force = c.body_force;
   sp.mold_wall = resolve_wall_slip(c.mold, c.mold);
   sp.output_fields = c.output.fields;

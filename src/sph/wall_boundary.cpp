@@ -6,9 +6,9 @@
 // Slip walls (docs/physics.md "Wall conditions") keep the normal part of the
 // no-slip velocity (the wall stays impermeable) and change the tangential
 // part, see dummy_velocity below.
-// A wall particle with no resin neighbor gets P = 0, rho = rho0 and its own
-// velocity. Negative wall pressures are clipped at the wall's floor: 0, or
-// minus a moving wall's adhesion_pressure.
+// A wall particle with no resin neighbor gets P = Pa (the ambient pressure,
+// 0 by default), rho = rho0 and its own velocity. Wall pressures are clipped
+// at the wall's floor: Pa, or Pa minus a moving wall's adhesion_pressure.
 // The resin sees the wall through these values in the rate loop.
 #include <algorithm>
 
@@ -73,7 +73,7 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
     }
     const std::int32_t k = ps.wall[w];
     if (sum_w <= 0.0) {
-      ps.p[w] = 0.0;
+      ps.p[w] = eos.ambient();
       ps.rho[w] = eos.rho0();
       ps.vwall[w] = ps.v[w];
       continue;
@@ -83,7 +83,9 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
     // A wall pushes but does not pull (floor 0): resin may leave it, the gap
     // filling with air at ambient (gauge 0) pressure. A moving wall may hold
     // the resin up to its adhesion pressure (floor = -adhesion_pressure).
-    const double floor = listed ? walls[static_cast<std::size_t>(k)].pressure_floor : 0.0;
+    // Both floors are relative to the ambient pressure (resin.ambient_pressure).
+    const double floor =
+        eos.ambient() + (listed ? walls[static_cast<std::size_t>(k)].pressure_floor : 0.0);
     const double p = std::max(floor, (sum_p + (g - a_w).dot(sum_rho_r)) / sum_w);
     ps.p[w] = p;
     ps.rho[w] = eos.density(p);

@@ -54,6 +54,7 @@ struct Resin {
   std::optional<double> melt_temperature;  // [K], cross_wlf (until the thermal field)
   double sound_speed = 0;                  // c0 [m/s], given or from mach * reference_velocity
   double gamma = 7.0;                      // Tait exponent
+  double ambient_pressure = 0;             // [Pa] added to the Tait pressure (docs/physics.md)
 };
 
 enum class ViscosityModel { Morris, None };
@@ -75,6 +76,11 @@ struct Numerics {
   bool anti_clump = true;             // Monaghan (2000) tensile-instability term
   double anti_clump_epsilon = 0.2;
   int anti_clump_exponent = 4;
+  // Particle shifting (Lind et al. 2012; Skillen et al. 2013), free-surface aware.
+  bool particle_shifting = false;
+  double shifting_coefficient = 2.0;
+  // Monaghan (1994) repulsive force of the wall particles on the resin.
+  bool wall_repulsion = true;
   double neighbor_skin = 0.1;  // Verlet skin as a fraction of the support 2h
 };
 

@@ -30,8 +30,9 @@ enum class Kind : std::uint8_t { Fluid = 0, Wall = 1 };
 // The resin's per-step ghost exchanges (Halo::forward): State before the
 // rates, to every ghost; WallState after the wall extrapolation, to the
 // wall ghosts only (docs/parallel.md, "The step"); ShearRate after the
-// shear-rate pass, when it runs (src/sph/pass_loop.hpp).
-enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2 };
+// shear-rate pass, FreeSurface after the free-surface pass, when they run
+// (src/sph/pass_loop.hpp).
+enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2, FreeSurface = 3 };
 
 // The SPH field registry (field_registry.hpp): X(type, member, policy).
 #define SPHDEM_SPH_FIELDS(X)                                                                      \
@@ -66,6 +67,12 @@ enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2 };
   /* evaluates the law at the forwarded shear rate (src/sph/terms/viscosity_variable.hpp); */     \
   /* checkpointed because the next step's viscous limit reads it */                               \
   X(double, viscosity, kMigrate | kCheckpoint | output_as("viscosity", "Pa s"))                   \
+  /* free-surface pass (src/sph/terms/free_surface.hpp): 1 on the surface, else 0; the */         \
+  /* outward unit normal there (0 inside); div r; the shifting gradient (owned only) */           \
+  X(double, free_surface, in_group(SphGroup::FreeSurface) | output_as("free_surface", "1"))       \
+  X(Vec<D>, surface_normal, in_group(SphGroup::FreeSurface) | output_as("surface_normal", "1"))   \
+  X(double, position_divergence, kLocal | output_as("position_divergence", "1"))                  \
+  X(Vec<D>, shifting_gradient, kLocal)                                                            \
   /* Integrator state within a step: half-step values (owned only). They */                       \
   /* migrate: the neighbor rebuild (and so migration) sits between the */                         \
   /* drift and the second kick, which reads them. */                                              \

@@ -34,7 +34,9 @@ struct SphParams {
   bool anti_clump = true;
   double anti_clump_eps = 0.2;
   int anti_clump_n = 4;
-  double eta2 = 0;  // 0.01 h^2, keeps 1/r^2 terms finite
+  double eta2 = 0;              // 0.01 h^2, keeps 1/r^2 terms finite
+  double shifting = 0;          // particle shifting coefficient A (0: off)
+  bool wall_repulsion = false;  // Monaghan (1994) wall force (wall_repulsion.cpp)
   Vec3a body_force{};
   WallSlipLaw mold_wall;  // the condition of the fixed mold walls (wall index -1)
   // output.fields: a neighbour-sum pass whose field is named here runs even
@@ -104,6 +106,16 @@ void compute_fluid_rates(const SphParams& sp, const NeighborList<D>& nl, SphPart
 template <int D>
 void compute_fluid_passes(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
                           const std::function<void(SphGroup)>& forward);
+
+// Particle shifting after the second kick of a step of dt (src/sph/particle_shifting.cpp):
+// reads the free-surface pass's fields; nothing when sp.shifting is 0.
+template <int D>
+void shift_particles(const SphParams& sp, double dt, SphParticles<D>& ps);
+
+// The wall's short-range repulsion on the resin (src/sph/wall_repulsion.cpp),
+// added to the accelerations; compute_fluid_rates calls it when sp.wall_repulsion.
+template <int D>
+void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps);
 
 // Largest speed (resin and walls) and resin acceleration over owned particles.
 struct LocalExtremes {

@@ -1,0 +1,99 @@
+#pragma once
+// Free-surface detection, a neighbour-sum pass (pass_loop.hpp), per resin
+// particle i over every neighbour j (resin and wall), V_j = m_j / rho_j,
+// grad W_ij = F_ij x_ij (lattice-corrected):
+//   div r_i = -sum_j V_j F_ij |x_ij|^2                 (D inside the resin)
+//   grad C_i = sum_j V_j grad W_ij                      (0 inside, points inward at the surface)
+//   grad C~_i = sum_j V_j (1 + 0.2 (W_ij / W(dp))^4) grad W_ij
+// i is on the free surface when div r_i < 1.5 (2D) or 2.4 (3D) (Lee et al.
+// 2008, JCP 227:8417; Lind et al. 2012, JCP 231:1499), with the outward
+// unit normal n_i = -grad C_i / |grad C_i|; grad C~ (with Lind's tensile
+// correction) drives particle shifting (src/sph/particle_shifting.cpp).
+// docs/physics.md, "Free surface". output.fields: free_surface,
+// surface_normal, position_divergence.
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "../record_fields.hpp"
+
+namespace sphdem::terms {
+
+// The divergence of position below which a particle is on the surface.
+template <int D>
+inline constexpr double kFreeSurfaceThreshold = D == 2 ? 1.5 : 2.4;
+
+namespace field {
+struct FreeSurface : ScalarField {
+  static constexpr const char* name = "free_surface";
+  template <int D>
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    out[0] = ps.free_surface[i];
+  }
+};
+}  // namespace field
+
+struct FreeSurfacePass {
+  static constexpr const char* name = "free_surface";
+  // Its other snapshot fields: asking for one of them runs the pass too.
+  static constexpr const char* also_outputs[] = {"surface_normal", "position_divergence"};
+  using Reads = Fields<field::Pos, field::Vol>;
+  using Output = field::FreeSurface;
+  static constexpr SphGroup group = SphGroup::FreeSurface;
+  template <int D>
+  static constexpr std::size_t kSums = 1 + 2 * D;
+  template <int D>
+  static std::vector<double>& output(SphParticles<D>& ps) {
+    return ps.free_surface;
+  }
+  // Particle shifting needs it even when no term reads it.
+  static bool needed(const SphParams& sp) { return sp.shifting > 0.0; }
+
+  double kw, inv_w_dp;  // W = kw t^4 (1 + 2q); 1 / W(dp)
+  template <int D>
+  explicit FreeSurfacePass(const TermContext<D>& c)
+      : kw(c.kw), inv_w_dp(1.0 / c.kernel.w(c.sp.spacing)) {}
+
+  // s[0] = div r, s[1..D] = grad C, s[1+D..2D] = grad C~.
+  template <class P>
+  void pair(const P& p, double* s) const {
+    constexpr int D = P::kDim;
+    const double vf = p.lane(field::Vol{}) * p.F;
+    s[0] = -vf * p.r2;
+    const double t2 = p.t * p.t;
+    const double w_ratio = kw * t2 * t2 * (1.0 + 2.0 * p.q) * inv_w_dp;
+    const double w2 = w_ratio * w_ratio;
+    const double tensile = 1.0 + 0.2 * w2 * w2;
+    for (int d = 0; d < D; ++d) {
+      const double g = vf * p.lane(field::Pos{}, d);
+      s[1 + d] = g;
+      s[1 + D + d] = tensile * g;
+    }
+  }
+  template <int D>
+  double finish(const double* sums) const {
+    return sums[0] < kFreeSurfaceThreshold<D> ? 1.0 : 0.0;
+  }
+  // The rest of the particle's result (the flag is finish's).
+  template <int D>
+  void store(const double* sums, SphParticles<D>& ps, std::size_t i) const {
+    ps.position_divergence[i] = sums[0];
+    Vec<D> grad_c, grad_ct;
+    for (int d = 0; d < D; ++d) {
+      grad_c[d] = sums[1 + d];
+      grad_ct[d] = sums[1 + D + d];
+    }
+    const double norm = grad_c.norm();
+    const bool surface = sums[0] < kFreeSurfaceThreshold<D> && norm > 0.0;
+    ps.surface_normal[i] = surface ? Vec<D>(-grad_c / norm) : Vec<D>::Zero();
+    ps.shifting_gradient[i] = grad_ct;
+  }
+  template <int D>
+  void clear(SphParticles<D>& ps, std::size_t i) const {
+    ps.position_divergence[i] = 0.0;
+    ps.surface_normal[i] = Vec<D>::Zero();
+    ps.shifting_gradient[i] = Vec<D>::Zero();
+  }
+};
+
+}  // namespace sphdem::terms
