@@ -12,3 +12,8 @@ sphdem_test(test_coupled_3d SOURCES test_coupled_3d.cpp RANKS 2 LABELS "mpi;coup
 # buoyant fiber in a Mach 0.1 shear cell, and a resin spacing finer than
 # the fiber's diameter, run stably or are refused by `sphdem check`.
 sphdem_test(test_coupled_window SOURCES test_coupled_window.cpp RANKS 1 LABELS "unit;coupling")
+
+# The hydrodynamic torque (docs/physics.md "Hydrodynamic torque"): its kernels,
+# the return of angular momentum to the resin, Jeffery orbits of rigid
+# chains of 4, 8 and 16 particles in 2D and 3D, and a cloud that keeps flipping.
+sphdem_test(test_jeffery SOURCES test_jeffery.cpp RANKS 1 LABELS "validation;coupling")

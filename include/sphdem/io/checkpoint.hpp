@@ -33,7 +33,8 @@ namespace sphdem {
 // Bumped whenever the layout or the meaning of a stored value changes; a
 // checkpoint of another format is refused.
 // 2: the wall particles' wall_to_surface (slip walls).
-inline constexpr int kCheckpointFormat = 2;
+// 3: the fibers' hydrodynamic torque state (torque_coeff, resin_spin, ...).
+inline constexpr int kCheckpointFormat = 3;
 
 enum class ColumnType : int { F64 = 0, I64 = 1, I32 = 2, U8 = 3, Bytes = 4 };
 
