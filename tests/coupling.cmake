@@ -12,3 +12,16 @@ sphdem_test(test_coupled_3d SOURCES test_coupled_3d.cpp RANKS 2 LABELS "mpi;coup
 # buoyant fiber in a Mach 0.1 shear cell, and a resin spacing finer than
 # the fiber's diameter, run stably or are refused by `sphdem check`.
 sphdem_test(test_coupled_window SOURCES test_coupled_window.cpp RANKS 1 LABELS "unit;coupling")
+
+# The hydrodynamic torque (docs/physics.md "Hydrodynamic torque"): its kernels,
+# the return of angular momentum to the resin, Jeffery orbits of rigid
+# chains of 4, 8 and 16 particles in 2D and 3D, and a cloud that keeps flipping.
+sphdem_test(test_jeffery SOURCES test_jeffery.cpp RANKS 1 LABELS "validation;coupling")
+set_tests_properties(test_jeffery_np1 PROPERTIES ENVIRONMENT "GTEST_FILTER=-JefferyLong.*")
+# The 16-particle chains (about 90 s of CPU): not in CI.
+add_test(NAME test_jeffery_long COMMAND test_jeffery --gtest_filter=JefferyLong.*)
+set_tests_properties(test_jeffery_long PROPERTIES TIMEOUT 1800 LABELS "long;coupling")
+
+# A fiber carried across the periodic face of a shear cell (sliding walls,
+# periodic x, the linear profile at t = 0): bonds intact, 2 ranks bitwise.
+sphdem_test(test_shear_cell SOURCES test_shear_cell.cpp RANKS 1 2 LABELS "validation;coupling")

@@ -120,7 +120,7 @@ TEST(CaseFibers, Errors) {
   expect_error(edit("dimension: 2                 # 1",
                     "dimension: 2\nperiodic: [x]\n"
                     "domain: {min: [-0.015, 0.03], max: [0.015, 0.0615]}"),
-               9, "fibers", "periodic axes are not supported");
+               9, "fibers", "periodic axes need `fill`");
   expect_error(edit("  count: 175", "  count: 175\n  void_fraction_min: 1.5"), 9,
                "fibers.void_fraction_min", "");
   // The generator's failure, at the key that asked for too much.

@@ -136,12 +136,15 @@ Key<Case> fill() {
 Key<Case> fibers() {
   Key<Case> k = optional_mapping("fibers", fiber_keys, &Case::fibers,
                                  "DEM fibers: with `fill`, carried by the resin (coupled); "
-                                 "without, a fibers-only run; not with `periodic` axes");
+                                 "without, a fibers-only run; with `periodic` axes only with "
+                                 "`fill` (fibers cross the periodic faces: shear cells)");
   const auto read = k.read;
   k.read = [read](const Value& v, Case& c, Context& ctx) {
     read(v, c, ctx);
-    // A pair and its periodic image would both be listed (dem.hpp).
-    if (any_periodic(c)) v.fail("fibers with periodic axes are not supported");
+    // A fibers-only run decomposes the mold's box on its own, without
+    // periodic faces (dem_run.cpp).
+    if (any_periodic(c) && c.fill.empty())
+      v.fail("fibers with periodic axes need `fill` (a fibers-only run has no periodic faces)");
   };
   k.absent = [](const Map& m, Case&, Context&) {
     if (!m.has("fill")) m.require("fill", " (or fibers: for a case without resin)");

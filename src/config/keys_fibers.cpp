@@ -171,6 +171,13 @@ Section<F> make_fibers() {
               "coupled runs: the resin's continuity equation with the local void fraction (the "
               "paper's \"local averaging\"); false: plain continuity")
           .identity(),
+      boolean("hydrodynamic_torque", &F::hydrodynamic_torque,
+              "coupled runs: each fiber particle gets the torque of the resin's local rotation "
+              "(half its vorticity) against its spin, with the bead model's rotational friction, "
+              "and the resin its reaction, so that fibers tumble in Jeffery orbits "
+              "(`docs/physics.md` \"Hydrodynamic torque\"); false: drag only, fibers align "
+              "with the flow and never flip")
+          .identity(),
   };
   s.finish = finish_fibers;
   s.intro =

@@ -10,6 +10,7 @@
 #include "sphdem/dem/cell_list.hpp"
 #include "terms/continuity_void.hpp"
 #include "terms/reaction.hpp"
+#include "terms/rotation.hpp"
 #include "terms/shepard.hpp"
 #include "terms/void_fraction.hpp"
 
@@ -61,6 +62,49 @@ struct Reach {
 template <int D>
 double dem_volume(const DemParticles<D>& dem, std::size_t f) {
   return particle_volume<D>(2.0 * dem.radius[f]);
+}
+
+// The resin spin and rotational friction at owned DEM particle f
+// (terms/rotation.hpp) from its resin neighbours `near`, the lever that
+// returns the angular impulse of the last step to them, and the torque the
+// next first kick uses. Runs after f's drag (mean_drag, drag_coeff).
+template <int D>
+void hydrodynamic_torque(const WendlandC2<D>& kernel, const SphParticles<D>& sph,
+                         const CouplingState<D>& st, const std::vector<Near>& near,
+                         DemParticles<D>& dem, std::size_t f, double dt) {
+  const Rot<D> mean_torque = dt > 0 ? Rot<D>(dem.torque_impulse[f] / dt) : Rot<D>::Zero();
+  dem.torque_impulse[f].setZero();
+  dem.torque_coeff[f] = 0.0;
+  dem.resin_spin[f].setZero();
+  dem.torque_lever[f].setZero();
+  dem.resin_offset[f].setZero();
+  if (dem.shepard_sum[f] > 0.0) {
+    const auto resin_of = [&](const Near& n) {
+      return static_cast<std::size_t>(st.resin_index[static_cast<std::size_t>(n.index)]);
+    };
+    Vec<D> sum = Vec<D>::Zero();
+    for (const Near& n : near) {
+      const std::size_t r = resin_of(n);
+      sum += (sph.mass[r] / sph.rho[r] * kernel.w(n.r)) * (sph.x[r] - dem.x[f]);
+    }
+    const Vec<D> offset = sum / dem.shepard_sum[f];
+    terms::RotationFit<D> fit;
+    for (const Near& n : near) {
+      const std::size_t r = resin_of(n);
+      fit.add(sph.mass[r] / sph.rho[r] * kernel.w(n.r), sph.x[r] - dem.x[f] - offset,
+              sph.v[r] - dem.resin_velocity[f]);
+    }
+    if (fit.solvable()) {
+      dem.torque_coeff[f] = terms::rotational_friction<D>(dem.drag_coeff[f], dem.radius[f]);
+      dem.resin_spin[f] = fit.spin();
+      dem.torque_lever[f] =
+          fit.lever(terms::torque_to_return<D>(mean_torque, offset, dem.mean_drag[f]));
+      dem.resin_offset[f] = offset;
+    }
+  }
+  const Rot<D> torque = dem.torque_coeff[f] * (dem.resin_spin[f] - dem.omega[f]);
+  dem.torque[f] += torque - dem.hydro_torque[f];
+  dem.hydro_torque[f] = torque;
 }
 
 }  // namespace
@@ -132,6 +176,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
     const Vec<D> drag = dem.drag_coeff[f] * (vbar - dem.v[f]);
     dem.force[f] += drag - dem.drag_force[f];
     dem.drag_force[f] = drag;
+    if (s.hydrodynamic_torque) hydrodynamic_torque<D>(kernel, sph, st, near, dem, f, dt);
   }
 }
 
@@ -192,6 +237,10 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
       const double dist = std::sqrt(dist2);
       const double w = kernel.w(dist);
       force[ku] += (vol[ku] * w) * share;
+      if (s.hydrodynamic_torque) {
+        force[ku] += terms::torque_reaction_force<D>(vol[ku] * w, dem.torque_lever[f],
+                                                     d - dem.resin_offset[f]);
+      }
       held[ku] += (vol[ku] * w) * coeff_per_weight;
       phi[ku] += terms::solid_fraction<D>(kernel, vol_f, dist);
       phi_rate[ku] +=

@@ -32,7 +32,9 @@ void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemW
     ps.drag_force[i] = ps.drag_coeff[i] * (ps.drag_velocity[i] - ps.v[i]);
     Vec<D> f =
         ps.mass[i] * (p.gravity - p.global_damping * ps.v[i]) + ps.f_ext[i] + ps.drag_force[i];
-    Rot<D> t = -p.global_damping * ps.inertia[i] * ps.omega[i];
+    // The resin's torque, linear in the spin the same way (coupling_loops.hpp).
+    ps.hydro_torque[i] = ps.torque_coeff[i] * (ps.resin_spin[i] - ps.omega[i]);
+    Rot<D> t = -p.global_damping * ps.inertia[i] * ps.omega[i] + ps.hydro_torque[i];
     for (std::int32_t e = ws.adj_start[i]; e < ws.adj_start[i + 1]; ++e) {
       const std::int32_t entry = ws.adj[static_cast<std::size_t>(e)];
       const DemPair<D>& pr = ws.pairs[static_cast<std::size_t>(entry / 2)];
@@ -66,6 +68,7 @@ void dem_kick_drift(double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& 
       ps.v[i] += (half / ps.mass[i]) * ps.force[i];
       ps.omega[i] += (half / ps.inertia[i]) * ps.torque[i];
       ps.drag_impulse[i] += half * ps.drag_force[i];  // what the resin must get back
+      ps.torque_impulse[i] += half * ps.hydro_torque[i];
     }
     ps.x[i] += dt * ps.v[i];
   }
@@ -88,6 +91,7 @@ void dem_force_kick(const DemParams<D>& p, double dt, const std::vector<DemWall<
     ps.v[i] += (half / ps.mass[i]) * ps.force[i];
     ps.omega[i] += (half / ps.inertia[i]) * ps.torque[i];
     ps.drag_impulse[i] += half * ps.drag_force[i];
+    ps.torque_impulse[i] += half * ps.hydro_torque[i];
   }
 }
 

@@ -122,6 +122,21 @@ class GidIndex {
         std::lower_bound(order_.begin(), order_.end(), std::make_pair(gid, std::int32_t{-1}));
     return it != order_.end() && it->first == gid ? it->second : -1;
   }
+  // With periodic images a gid can be present more than once: the copy
+  // nearest to x (the first in local order on a tie).
+  std::int32_t find_nearest(std::int64_t gid, const Vec<D>& x, const DemParticles<D>& ps) const {
+    auto it = std::lower_bound(order_.begin(), order_.end(), std::make_pair(gid, std::int32_t{-1}));
+    std::int32_t best = -1;
+    double best_d2 = 0;
+    for (; it != order_.end() && it->first == gid; ++it) {
+      const double d2 = (ps.x[static_cast<std::size_t>(it->second)] - x).squaredNorm();
+      if (best < 0 || d2 < best_d2) {
+        best = it->second;
+        best_d2 = d2;
+      }
+    }
+    return best;
+  }
 
  private:
   std::vector<std::pair<std::int64_t, std::int32_t>> order_;

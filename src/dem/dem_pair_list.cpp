@@ -43,7 +43,7 @@ void dem_build_pairs(const DemParams<D>& p, const std::vector<DemWall<D>>& walls
     for (int s = 0; s < kMaxBonds; ++s) {
       const DemBond<D>& b = ps.bonds[i][static_cast<std::size_t>(s)];
       if (b.partner < 0 || b.broken) continue;
-      const std::int32_t j = index.find(b.partner);
+      const std::int32_t j = index.find_nearest(b.partner, ps.x[i], ps);
       if (j < 0) {
         if (i < n_own) {
           throw SimulationError(fmt::format(

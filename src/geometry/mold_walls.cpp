@@ -304,14 +304,38 @@ std::vector<DemWall<3>> walls_3d(const Case& c, std::vector<int>& wall_owner) {
 
 }  // namespace
 
+// Whether wall w lies in a face of the domain along a periodic axis: no
+// wall there, the resin and the fibers go through (shear cells).
+template <int D>
+bool on_periodic_face(const Case& c, const DemWall<D>& w, double tol) {
+  if (!c.domain_lo || !c.domain_hi) return false;
+  for (int k = 0; k < D; ++k) {
+    if (!c.periodic[static_cast<std::size_t>(k)]) continue;
+    for (const double face : {(*c.domain_lo)[k], (*c.domain_hi)[k]})
+      if (std::abs(w.point[k] - face) <= tol && std::abs(w.end[k] - face) <= tol) return true;
+  }
+  return false;
+}
+
 template <int D>
 std::vector<DemWall<D>> dem_walls_from_case(const Case& c, std::vector<int>& wall_owner) {
   wall_owner.clear();
+  std::vector<DemWall<D>> all;
   if constexpr (D == 2) {
-    return walls_2d(c, wall_owner);
+    all = walls_2d(c, wall_owner);
   } else {
-    return walls_3d(c, wall_owner);
+    all = walls_3d(c, wall_owner);
   }
+  const double tol = 1e-9 * mold_size(c);
+  std::vector<DemWall<D>> walls;
+  std::vector<int> owner;
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    if (on_periodic_face<D>(c, all[k], tol)) continue;
+    walls.push_back(all[k]);
+    owner.push_back(wall_owner[k]);
+  }
+  wall_owner = owner;
+  return walls;
 }
 
 template std::vector<DemWall<2>> dem_walls_from_case<2>(const Case&, std::vector<int>&);

@@ -7,8 +7,8 @@
 
 namespace sphdem {
 
-template <int D>
-void wrap_periodic(SphParticles<D>& ps, const Box<D>& box, const std::array<bool, 3>& periodic) {
+template <int D, class Ps>
+void wrap_positions(Ps& ps, const Box<D>& box, const std::array<bool, 3>& periodic) {
   for (int k = 0; k < D; ++k) {
     if (!periodic[static_cast<std::size_t>(k)]) continue;
     const double len = box.hi[k] - box.lo[k];
@@ -19,6 +19,18 @@ void wrap_periodic(SphParticles<D>& ps, const Box<D>& box, const std::array<bool
   }
 }
 
+template <int D>
+void wrap_periodic(SphParticles<D>& ps, const Box<D>& box, const std::array<bool, 3>& periodic) {
+  wrap_positions<D>(ps, box, periodic);
+}
+
+template <int D>
+void wrap_periodic(DemParticles<D>& ps, const Box<D>& box, const std::array<bool, 3>& periodic) {
+  wrap_positions<D>(ps, box, periodic);
+}
+
+template void wrap_periodic<2>(DemParticles<2>&, const Box<2>&, const std::array<bool, 3>&);
+template void wrap_periodic<3>(DemParticles<3>&, const Box<3>&, const std::array<bool, 3>&);
 template void wrap_periodic<2>(SphParticles<2>&, const Box<2>&, const std::array<bool, 3>&);
 template void wrap_periodic<3>(SphParticles<3>&, const Box<3>&, const std::array<bool, 3>&);
 template MigrationCounts migrate<2>(const Decomposition<2>&, SphParticles<2>&);

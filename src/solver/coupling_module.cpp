@@ -22,6 +22,7 @@ CouplingModule<D>::CouplingModule(const RunContext<D>& ctx, ResinModule<D>& resi
   coupling_.h = c.h();
   coupling_.thickness = fibers.dem().params().thickness;
   coupling_.void_fraction_in_continuity = c.fibers->void_fraction_in_continuity;
+  coupling_.hydrodynamic_torque = c.fibers->hydrodynamic_torque;
 }
 
 // Drag on the fibers, then its reaction on the resin (coupling_loops.hpp);
@@ -38,8 +39,12 @@ void CouplingModule<D>::rates() {
   const Vec<D> reaction = reaction_on_resin<D>(coupling_, dem, ps, resin_eps_, rate);
   resin_drag_rate_ = ctx_.comm.max(rate);
   double drag_time = std::numeric_limits<double>::infinity();
-  for (std::size_t f = 0; f < dem.n_owned; ++f)
+  for (std::size_t f = 0; f < dem.n_owned; ++f) {
     if (dem.drag_coeff[f] > 0) drag_time = std::min(drag_time, dem.mass[f] / dem.drag_coeff[f]);
+    // The spin relaxes under the torque the same way (explicit too).
+    if (dem.torque_coeff[f] > 0)
+      drag_time = std::min(drag_time, dem.inertia[f] / dem.torque_coeff[f]);
+  }
   drag_time = ctx_.comm.min(drag_time);
   fiber_drag_time_ = std::isfinite(drag_time) ? drag_time : 0.0;
   fibers_.limit_substep(fiber_drag_time_);

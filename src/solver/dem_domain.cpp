@@ -41,6 +41,10 @@ template <int D>
 void DemDomain<D>::rebuild() {
   const dem_detail::DemTimer timer(dem_detail::dem_profile().rebuild);
   store_state();
+  // A periodic resin's fibers cross its periodic faces (shear cells).
+  std::array<bool, 3> periodic{false, false, false};
+  for (int k = 0; k < D; ++k) periodic[static_cast<std::size_t>(k)] = dec_.grid().periodic(k);
+  wrap_periodic<D>(ps_, dec_.grid().box(), periodic);
   // One rank: migration would keep every particle in its order (a copy of
   // every field); dropping the ghosts is all it does.
   if (dec_.comm().size() > 1) {

@@ -176,8 +176,13 @@ template <int D>
 void FiberModule<D>::check_health(std::string& problem) const {
   const DemParticles<D>& f = dem_->particles();
   for (std::size_t i = 0; i < f.n_owned && problem.empty(); ++i) {
-    if (!f.x[i].allFinite() || (f.x[i].array() < health_box_.lo.array()).any() ||
-        (f.x[i].array() > health_box_.hi.array()).any()) {
+    bool outside = false;
+    for (int k = 0; k < D; ++k) {
+      // Along a periodic axis a fiber crosses the face; the next rebuild wraps it.
+      if (ctx_.case_data.periodic[static_cast<std::size_t>(k)]) continue;
+      outside = outside || f.x[i][k] < health_box_.lo[k] || f.x[i][k] > health_box_.hi[k];
+    }
+    if (!f.x[i].allFinite() || outside) {
       problem = fmt::format("fiber particle {} (fiber {}) left the mold", f.gid[i], f.fiber[i]);
     }
   }

@@ -203,6 +203,7 @@ struct FiberSettings {
   // Coupling with the resin (docs/physics.md "Coupling").
   double void_fraction_min = 0.4;           // clip of the local void fraction
   bool void_fraction_in_continuity = true;  // the "local averaging" continuity form
+  bool hydrodynamic_torque = true;          // the resin's torque on the fibers (Jeffery orbits)
   int line = 0;                             // of the `fibers:` mapping
   int amount_line = 0;                      // of `count` or `area_fraction`
 };

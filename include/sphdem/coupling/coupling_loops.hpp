@@ -8,10 +8,17 @@
 //      momentum the resin must get back), then the void fraction at x_f,
 //      the Shepard resin velocity vbar and the normaliser S_f, and the new
 //      drag law F = K V_f (vbar - v_f) held over the next sub-steps
-//      (drag_coeff = K V_f with K at the current slip, drag_velocity = vbar).
+//      (drag_coeff = K V_f with K at the current slip, drag_velocity = vbar);
+//      with hydrodynamic_torque, the same for the rotation: the mean
+//      torque of the step, the resin spin (half the vorticity of the
+//      weighted linear fit of the neighbours' velocities) and the
+//      rotational friction held over the next sub-steps, and the lever
+//      that returns the angular impulse to the resin (terms/rotation.hpp).
 //   2. reaction_on_resin: for every owned resin particle r, the reaction
 //      -(V_r W_fr / S_f) F_mean,f of every DEM neighbour f (into a; returns
-//      the sum of these forces over the rank's resin), and with
+//      the sum of these forces over the rank's resin), with
+//      hydrodynamic_torque the torque's reaction V_r W_fr A_f x d_r (zero
+//      net force; its moment returns the torque and the drag's moment), and with
 //      void_fraction_in_continuity the continuity rate with the void
 //      fraction (into drho).
 // Every sum runs over neighbours in increasing global id, so results are
@@ -32,6 +39,7 @@ struct CouplingSettings {
   double h = 0;                             // smoothing length of the averaging kernel [m]
   double thickness = 1.0;                   // 2D depth of the DEM particles [m]
   bool void_fraction_in_continuity = true;  // the "local averaging" continuity form
+  bool hydrodynamic_torque = true;          // the resin's torque on the fibers and its reaction
 };
 
 // Scratch of drag_on_fibers, kept between passes to spare allocations. The

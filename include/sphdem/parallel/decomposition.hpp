@@ -168,6 +168,12 @@ class Decomposition {
 // the grid.
 template <int D>
 void wrap_periodic(SphParticles<D>& ps, const Box<D>& box, const std::array<bool, 3>& periodic);
+template <int D>
+struct DemParticles;
+// The same for the fibers' particles (a fiber across a periodic face keeps
+// its bonds: the pair list bonds the nearest image, dem_pair_list.cpp).
+template <int D>
+void wrap_periodic(DemParticles<D>& ps, const Box<D>& box, const std::array<bool, 3>& periodic);
 
 // The partner ranks of one direction of an exchange (migration, halo) and
 // where each one's elements sit in the buffer: [offsets[k], offsets[k+1])

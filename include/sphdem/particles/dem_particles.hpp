@@ -159,6 +159,14 @@ enum class DemGroup : std::uint8_t { State = 0, Coupling = 1 };
   X(Vec<D>, drag_velocity, kMigrate | kCheckpoint)                                               \
   X(Vec<D>, drag_force, kMigrate | kCheckpoint) /* of the last force evaluation [N] */           \
   X(Vec<D>, drag_impulse, kMigrate | kCheckpoint)                                                \
+  /* The resin's hydrodynamic torque (docs/physics.md "Hydrodynamic torque"): */                 \
+  /* T = torque_coeff (resin_spin - omega), the rotational friction [N m s] and */               \
+  /* half the resin's vorticity at x_f [rad/s] held from the last coupling */                    \
+  /* pass; the angular impulse [N m s] goes back to the resin at the next. */                    \
+  X(double, torque_coeff, kMigrate | kCheckpoint)                                                \
+  X(Rot<D>, resin_spin, kMigrate | kCheckpoint)                                                  \
+  X(Rot<D>, hydro_torque, kMigrate | kCheckpoint) /* of the last force evaluation [N m] */       \
+  X(Rot<D>, torque_impulse, kMigrate | kCheckpoint)                                              \
   /* Owned interaction state (owner rule above). */                                              \
   X(BondSlots<D>, bonds, kGhost | kMigrate | kCheckpoint)                                        \
   /* Peaks of the owned bonds, slot by slot (ghosts' copies are scratch). */                     \
@@ -172,6 +180,11 @@ enum class DemGroup : std::uint8_t { State = 0, Coupling = 1 };
   /* resin velocity [m/s] at x_f. */                                                             \
   X(double, shepard_sum, in_group(DemGroup::Coupling))                                           \
   X(Vec<D>, mean_drag, in_group(DemGroup::Coupling))                                             \
+  /* The torque's reaction (coupling_loops.hpp): resin neighbour r gets */                       \
+  /* V_r W_fr torque_lever x (x_r - x_f - resin_offset), resin_offset the */                     \
+  /* weighted centroid of the neighbours from x_f [m]. */                                        \
+  X(Rot<D>, torque_lever, in_group(DemGroup::Coupling))                                          \
+  X(Vec<D>, resin_offset, in_group(DemGroup::Coupling))                                          \
   X(double, void_fraction, kLocal)                                                               \
   X(Vec<D>, resin_velocity, kLocal)
 
