@@ -75,6 +75,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
   dem.mean_drag.assign(n_dem, Vec<D>::Zero());
   dem.void_fraction.assign(n_dem, 1.0);
   dem.resin_velocity.assign(n_dem, Vec<D>::Zero());
+  dem.resin_temperature.assign(n_dem, 0.0);
 
   // Resin particles (owned and ghosts) near the fibers, in a cell list.
   st.resin_index.clear();
@@ -107,11 +108,15 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
     }
     const double eps = terms::void_fraction(phi, s.drag.eps_min);
     terms::ShepardSum<D> shepard;
+    double sum_t = 0.0;  // sum_r V_r W_fr T_r, the resin temperature's Shepard numerator
     near_sorted<D>(resin_cells, st.resin_x, dem.x[f], support, resin_gid, near);
     for (const Near& n : near) {
       const auto r = static_cast<std::size_t>(st.resin_index[static_cast<std::size_t>(n.index)]);
-      shepard.add(sph.mass[r] / sph.rho[r], kernel.w(n.r), sph.v[r]);
+      const double vol = sph.mass[r] / sph.rho[r], w = kernel.w(n.r);
+      shepard.add(vol, w, sph.v[r]);
+      sum_t += vol * w * sph.temperature[r];
     }
+    dem.resin_temperature[f] = shepard.has_resin() ? sum_t / shepard.s : 0.0;
     dem.void_fraction[f] = eps;
     dem.shepard_sum[f] = shepard.s;
     dem.resin_velocity[f] = shepard.mean();

@@ -150,7 +150,10 @@ enum class DemGroup : std::uint8_t { State = 0, Coupling = 1 };
   X(double, shepard_sum, in_group(DemGroup::Coupling))                                           \
   X(Vec<D>, mean_drag, in_group(DemGroup::Coupling))                                             \
   X(double, void_fraction, kLocal)                                                               \
-  X(Vec<D>, resin_velocity, kLocal)
+  X(Vec<D>, resin_velocity, kLocal)                                                              \
+  /* The resin's temperature at x_f [K], the same Shepard filter (resin.thermal; */              \
+  /* the fibers' own heat capacity is neglected, docs/physics.md "Temperature"). */              \
+  X(double, resin_temperature, output_as("resin_temperature", "K"))
 
 template <int D>
 struct DemParticles {
