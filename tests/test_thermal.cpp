@@ -67,9 +67,10 @@ TEST(Thermal, ConductionFromSuddenlyCooledWallMatchesErf) {
   for (double t : {0.01, 0.025}) {
     testing::run_until(sim, t);
     const double err = worst_erf_error(sim.particles(), sim.time(), a, 6e-3, 3e-3);
-    std::printf("[          ] t = %.3f s (2 sqrt(a t) = %.2f mm): largest error %.3f %% of T_i - "
-                "T_s\n",
-                sim.time(), 2e3 * std::sqrt(a * sim.time()), 100 * err);
+    std::printf(
+        "[          ] t = %.3f s (2 sqrt(a t) = %.2f mm): largest error %.3f %% of T_i - "
+        "T_s\n",
+        sim.time(), 2e3 * std::sqrt(a * sim.time()), 100 * err);
     EXPECT_LT(err, 0.02) << "at t = " << sim.time();
   }
   EXPECT_EQ(sim.last_dt_limit(), DtLimit::Thermal);
@@ -93,9 +94,10 @@ TEST(Thermal, CouetteViscousHeatingMatchesBrinkman) {
     peak = std::max(peak, got);
   }
   const double err = std::sqrt(num / den);
-  std::printf("[          ] t = %.3f s: peak rise %.3f K (Brinkman %.3f K at mid-gap), relative "
-              "L2 error %.3f %%\n",
-              sim.time(), peak, kMu * kU * kU / (8 * kK), 100 * err);
+  std::printf(
+      "[          ] t = %.3f s: peak rise %.3f K (Brinkman %.3f K at mid-gap), relative "
+      "L2 error %.3f %%\n",
+      sim.time(), peak, kMu * kU * kU / (8 * kK), 100 * err);
   EXPECT_LT(err, 0.02);
 }
 
@@ -126,11 +128,14 @@ TEST(Thermal, FrozenLayerGrowsAsSqrtTime) {
     }
     const double thickness = static_cast<double>(frozen) / (2 * columns) * kDp;
     const double expected = slope * std::sqrt(sim.time());
-    std::printf("[          ] t = %4.1f s: frozen layer %.3f mm (conduction estimate %.3f mm), "
-                "core speed %.3g m/s\n",
-                sim.time(), 1e3 * thickness, 1e3 * expected, flowing);
+    std::printf(
+        "[          ] t = %4.1f s: frozen layer %.3f mm (conduction estimate %.3f mm), "
+        "core speed %.3g m/s\n",
+        sim.time(), 1e3 * thickness, 1e3 * expected, flowing);
     // The count moves by whole rows of particles: compare from 5 rows on.
-    if (expected > 5 * kDp) EXPECT_NEAR(thickness / expected, 1.0, 0.10) << "t = " << sim.time();
+    if (expected > 5 * kDp) {
+      EXPECT_NEAR(thickness / expected, 1.0, 0.10) << "t = " << sim.time();
+    }
     EXPECT_EQ(still, 0.0) << "a frozen particle moves";
     EXPECT_GT(flowing, 0.0) << "the core stopped";
     sum_ds += thickness * std::sqrt(sim.time());
@@ -138,8 +143,8 @@ TEST(Thermal, FrozenLayerGrowsAsSqrtTime) {
   }
   // Least squares through the origin: thickness = s sqrt(t).
   const double fitted = sum_ds / sum_ss;
-  std::printf("[          ] thickness / sqrt(t): %.4g m/s^0.5, conduction estimate %.4g\n",
-              fitted, slope);
+  std::printf("[          ] thickness / sqrt(t): %.4g m/s^0.5, conduction estimate %.4g\n", fitted,
+              slope);
   EXPECT_NEAR(fitted / slope, 1.0, 0.10);
 }
 
@@ -196,8 +201,8 @@ TEST(ThermalErrors, TheCaseLoads) {
 }
 
 TEST(ThermalErrors, NegativeConductivity) {
-  expect_error(with("conductivity: 0.2 ", "conductivity: -0.2"), 9,
-               "resin.thermal.conductivity", "must be positive, got -0.2");
+  expect_error(with("conductivity: 0.2 ", "conductivity: -0.2"), 9, "resin.thermal.conductivity",
+               "must be positive, got -0.2");
 }
 
 TEST(ThermalErrors, NegativeHeatCapacity) {
@@ -231,8 +236,7 @@ initial_fields:
 }
 
 TEST(ThermalErrors, HeatTransferCoefficientNeedsTemperature) {
-  expect_error(with("  temperature: 313           # 17\n",
-                    "  heat_transfer_coefficient: 1000\n"),
+  expect_error(with("  temperature: 313           # 17\n", "  heat_transfer_coefficient: 1000\n"),
                17, "mold.heat_transfer_coefficient", "only with temperature");
 }
 
@@ -245,10 +249,10 @@ TEST(ThermalErrors, CelsiusLookingTemperaturesWarn) {
                                "Celsius"),
             std::string::npos)
       << c.warnings[0];
-  const Case melt = load_case_from_string(
-      with("no_flow_temperature: 400", "no_flow_temperature: 100",
-           with("temperature: 503 ", "temperature: 230 ")),
-      "case.yaml");
+  const Case melt =
+      load_case_from_string(with("no_flow_temperature: 400", "no_flow_temperature: 100",
+                                 with("temperature: 503 ", "temperature: 230 ")),
+                            "case.yaml");
   ASSERT_EQ(melt.warnings.size(), 2u);
   EXPECT_NE(melt.warnings[0].find("case.yaml:7: key 'resin.thermal.temperature': 230 K"),
             std::string::npos)
