@@ -201,8 +201,7 @@ TEST(Checkpoint, RestartIsBitwiseWithThePistonController) {
 // Temperature (issue 13 part 2): a thermal case carries its temperature and
 // its rate in the checkpoint, and the frozen state follows from them.
 TEST(Checkpoint, RestartIsBitwiseWithTemperature) {
-  const Case c = load_case(std::string(SPHDEM_SOURCE_DIR) + "/inputs/validation/frozen_layer.yaml",
-                           {"body_force=[1.0e-5, 0]"});
+  const Case c = load_case(std::string(SPHDEM_SOURCE_DIR) + "/inputs/validation/frozen_layer.yaml");
   check_restart_is_bitwise(c, "thermal", 67);
   if (world_rank() == 0) {
     const FullState s = read_all(checkpoint_path(work_dir("thermal") + "/straight", c.name, 134));

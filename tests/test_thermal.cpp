@@ -119,12 +119,13 @@ TEST(Thermal, FrozenLayerGrowsAsSqrtTime) {
     double still = 0, flowing = 0;
     for (std::size_t i = 0; i < ps.n_owned; ++i) {
       if (ps.kind[i] != Kind::Fluid) continue;
-      if (ps.temperature[i] < 420) {
-        ++frozen;
+      // The front is where T crosses T_noflow; a particle that crossed it
+      // during the last step is frozen from the next one on.
+      if (ps.temperature[i] < 420) ++frozen;
+      if (ps.frozen[i] != 0)
         still = std::max(still, ps.v[i].norm());
-      } else {
+      else
         flowing = std::max(flowing, ps.v[i][0]);
-      }
     }
     const double thickness = static_cast<double>(frozen) / (2 * columns) * kDp;
     const double expected = slope * std::sqrt(sim.time());
@@ -137,6 +138,9 @@ TEST(Thermal, FrozenLayerGrowsAsSqrtTime) {
       EXPECT_NEAR(thickness / expected, 1.0, 0.10) << "t = " << sim.time();
     }
     EXPECT_EQ(still, 0.0) << "a frozen particle moves";
+    if (expected > 5 * kDp) {
+      EXPECT_GT(frozen, 0u);
+    }
     EXPECT_GT(flowing, 0.0) << "the core stopped";
     sum_ds += thickness * std::sqrt(sim.time());
     sum_ss += sim.time();
@@ -146,6 +150,32 @@ TEST(Thermal, FrozenLayerGrowsAsSqrtTime) {
   std::printf("[          ] thickness / sqrt(t): %.4g m/s^0.5, conduction estimate %.4g\n", fitted,
               slope);
   EXPECT_NEAR(fitted / slope, 1.0, 0.10);
+}
+
+// --- fibers -----------------------------------------------------------------------
+
+// Fibers take the resin's temperature at their position (the Shepard mean of
+// the drag's resin velocity): in a resin with T linear in y it is the
+// linear field's value there.
+TEST(Thermal, FibersTakeTheLocalResinTemperature) {
+  const Case c = testing::load_input(
+      "validation/coupled_box.yaml",
+      {"resin.thermal.temperature=450", "resin.thermal.heat_capacity=2000",
+       "resin.thermal.conductivity=0.2", "initial_fields=[{temperature: '400 + 1e4*y'}]"});
+  Simulation<2> sim(c, comm(), quiet());
+  sim.advance(20);
+  const DemParticles<2>& dem = sim.dem()->particles();
+  std::size_t checked = 0;
+  double worst = 0;
+  for (std::size_t f = 0; f < dem.n_owned; ++f) {
+    if (!(dem.shepard_sum[f] > 0.9)) continue;  // fully inside the resin
+    ++checked;
+    worst = std::max(worst, std::abs(dem.resin_temperature[f] - (400 + 1e4 * dem.x[f][1])));
+  }
+  std::printf("[          ] %zu fiber particles in the resin: largest difference %.3g K\n", checked,
+              worst);
+  EXPECT_GT(checked, 50u);
+  EXPECT_LT(worst, 1.0);
 }
 
 // --- input errors -----------------------------------------------------------------
