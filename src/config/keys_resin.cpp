@@ -67,10 +67,10 @@ Section<Thermal> make_thermal() {
   Key<T> temperature = number("temperature", "K", positive_number(), &T::temperature,
                               "melt temperature at t = 0 (initial_fields may override it)");
   temperature.read = [](const Value& v, T& t, Context& ctx) { t.temperature = kelvin(v, ctx); };
-  Key<T> no_flow = optional_number("no_flow_temperature", "K", positive_number(),
-                                   &T::no_flow_temperature,
-                                   "below it a resin particle stops flowing (holds its position "
-                                   "and acts as wall for its neighbours)");
+  Key<T> no_flow =
+      optional_number("no_flow_temperature", "K", positive_number(), &T::no_flow_temperature,
+                      "below it a resin particle stops flowing (holds its position "
+                      "and acts as wall for its neighbours)");
   no_flow.read = [](const Value& v, T& t, Context& ctx) { t.no_flow_temperature = kelvin(v, ctx); };
   no_flow.defaults_to("none (never freezes)");
   s.keys = {

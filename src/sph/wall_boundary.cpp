@@ -80,8 +80,8 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
       const WallThermalLaw& heat =
           listed ? walls[static_cast<std::size_t>(k)].thermal : sp.mold_thermal;
       if (sum_w > 0.0)
-        ps.temperature[w] = dummy_temperature(heat, sp.conductivity, sum_t / sum_w,
-                                              ps.wall_to_surface[w].norm());
+        ps.temperature[w] =
+            dummy_temperature(heat, sp.conductivity, sum_t / sum_w, ps.wall_to_surface[w].norm());
       else if (!heat.adiabatic)
         ps.temperature[w] = heat.temperature;
     }

@@ -91,8 +91,8 @@ struct WallSlipLaw {
 // (htc = infinity: T_s = T_wall; no temperature: adiabatic).
 struct WallThermalLaw {
   bool adiabatic = true;
-  double temperature = 0;        // [K]
-  double htc = 0;                // [W/(m^2 K)], infinity: held at temperature
+  double temperature = 0;  // [K]
+  double htc = 0;          // [W/(m^2 K)], infinity: held at temperature
 };
 
 inline WallThermalLaw resolve_wall_thermal(const WallConditionKeys& own,
@@ -149,10 +149,10 @@ struct Expression {
 
 // Initial fields of the resin of some fill regions, as expressions.
 struct InitialFields {
-  std::optional<int> fill;             // index into Case::fill; none: every fill region
-  std::vector<Expression> velocity;    // D components, or empty: initial_velocity
-  std::optional<Expression> density;   // [kg/m^3]
-  std::optional<Expression> pressure;  // [Pa], density from the equation of state
+  std::optional<int> fill;                // index into Case::fill; none: every fill region
+  std::vector<Expression> velocity;       // D components, or empty: initial_velocity
+  std::optional<Expression> density;      // [kg/m^3]
+  std::optional<Expression> pressure;     // [Pa], density from the equation of state
   std::optional<Expression> temperature;  // [K], with resin.thermal only
   int line = 0;
 };

@@ -59,7 +59,7 @@ enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2 };
     kGhost | in_group(SphGroup::State) | in_group(SphGroup::WallState) | kMigrate |               \
         output_as("temperature", "K"))                                                            \
   X(double, dtemp, kMigrate) /* dT/dt [K/s] (owned resin) */                                      \
-  /* 1: below the no-flow temperature this step (holds its position) */                          \
+  /* 1: below the no-flow temperature this step (holds its position) */                           \
   X(std::int32_t, frozen, kMigrate | output_as("frozen", "1"))                                    \
   /* Derived every rate evaluation. */                                                            \
   /* pressure; walls: extrapolated */                                                             \

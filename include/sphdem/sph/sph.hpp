@@ -35,12 +35,12 @@ struct SphParams {
   // Temperature (resin.thermal, docs/physics.md "Temperature"); off: T is
   // never touched and nothing below runs.
   bool thermal = false;
-  double heat_capacity = 0;  // c_p [J/(kg K)]
-  double conductivity = 0;   // k [W/(m K)]
+  double heat_capacity = 0;                                               // c_p [J/(kg K)]
+  double conductivity = 0;                                                // k [W/(m K)]
   double no_flow_temperature = -std::numeric_limits<double>::infinity();  // [K]
   bool viscous_heating = false;
-  double thermal_factor = 0.1;     // dt <= thermal_factor h^2 rho0 c_p / k
-  WallThermalLaw mold_thermal;     // of the fixed mold walls (wall index -1)
+  double thermal_factor = 0.1;  // dt <= thermal_factor h^2 rho0 c_p / k
+  WallThermalLaw mold_thermal;  // of the fixed mold walls (wall index -1)
   // output.fields: a neighbour-sum pass whose field is named here runs even
   // when no active term reads it (src/sph/pass_loop.hpp).
   std::vector<std::string> output_fields;
