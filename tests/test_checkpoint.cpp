@@ -209,6 +209,20 @@ TEST(Checkpoint, RestartIsBitwiseWithAViscosityLaw) {
   check_restart_is_bitwise(c, "power_law", 57);
 }
 
+// Temperature (issue 13 part 2): a thermal case carries its temperature and
+// its rate in the checkpoint, and the frozen state follows from them.
+TEST(Checkpoint, RestartIsBitwiseWithTemperature) {
+  const Case c = load_case(std::string(SPHDEM_SOURCE_DIR) + "/inputs/validation/frozen_layer.yaml");
+  check_restart_is_bitwise(c, "thermal", 67);
+  if (world_rank() == 0) {
+    const FullState s = read_all(checkpoint_path(work_dir("thermal") + "/straight", c.name, 134));
+    int thermal = 0;
+    for (const CheckpointColumn& k : s.columns)
+      thermal += k.name == "temperature" || k.name == "dtemp";
+    EXPECT_EQ(thermal, 2) << "the checkpoint lacks the temperature columns";
+  }
+}
+
 // A coupled resin + fiber case (inputs/validation/coupled_box.yaml): the
 // fibers are in the checkpoint (group "dem", with their drag law and the
 // coupled step) and a restart on another rank count continues the run

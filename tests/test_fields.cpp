@@ -203,10 +203,10 @@ TEST(FieldRegistry, GhostsAndMigrationFollowThePolicies) {
 // The real registries: what a per-step exchange costs, what output.fields
 // may name, what a checkpoint holds (old checkpoints stay readable).
 TEST(FieldRegistry, SphAndDemRegistries) {
-  EXPECT_EQ(forward_bytes(2, SphGroup::State), 8u * 5);  // x, v, rho
-  EXPECT_EQ(forward_bytes(3, SphGroup::State), 8u * 7);
-  EXPECT_EQ(forward_bytes(2, SphGroup::WallState), 8u * 4);  // rho, p, vwall
-  EXPECT_EQ(forward_bytes(3, SphGroup::WallState), 8u * 5);
+  EXPECT_EQ(forward_bytes(2, SphGroup::State), 8u * 6);  // x, v, rho, temperature
+  EXPECT_EQ(forward_bytes(3, SphGroup::State), 8u * 8);
+  EXPECT_EQ(forward_bytes(2, SphGroup::WallState), 8u * 5);  // rho, temperature, p, vwall
+  EXPECT_EQ(forward_bytes(3, SphGroup::WallState), 8u * 6);
   EXPECT_EQ(forward_bytes(2, SphGroup::ShearRate), 8u);  // shear_rate, after its pass
   EXPECT_EQ(forward_bytes(3, SphGroup::ShearRate), 8u);
   const auto dem_bytes = [](auto ps, DemGroup g) {
@@ -217,9 +217,9 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   // shepard_sum, drag_coeff (the resin drag rate), mean_drag
   EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::Coupling), 8u * 4);
   EXPECT_EQ(sph_output_fields(),
-            (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "pressure",
-                                      "acceleration", "shear_rate", "free_surface",
-                                      "surface_normal", "position_divergence"}));
+            (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "temperature",
+                                      "frozen", "pressure", "acceleration", "shear_rate",
+                                      "free_surface", "surface_normal", "position_divergence"}));
   std::vector<std::string> sph, dem;
   for (const CheckpointColumn& c : checkpoint_columns(SphParticles<2>{})) sph.push_back(c.name);
   for (const CheckpointColumn& c : checkpoint_columns(DemParticles<2>{})) dem.push_back(c.name);

@@ -47,7 +47,7 @@ namespace {
 // One resin particle's state, as raw values so that equality is bitwise.
 struct Row {
   std::int64_t gid = 0;
-  double value[7] = {};  // x, v (D each), rho
+  double value[8] = {};  // x, v (D each), rho, temperature
 };
 
 // Gathers every resin particle's state to rank 0 of `comm`, sorted by gid.
@@ -61,6 +61,7 @@ std::vector<Row> gather_fluid(const Comm& comm, const SphParticles<D>& ps) {
     for (int k = 0; k < D; ++k) r.value[k] = ps.x[i][k];
     for (int k = 0; k < D; ++k) r.value[D + k] = ps.v[i][k];
     r.value[2 * D] = ps.rho[i];
+    r.value[2 * D + 1] = ps.temperature[i];
     mine.push_back(r);
   }
   return testing_mpi::gather_rows(comm, mine);
@@ -96,7 +97,7 @@ void expect_identical(const std::vector<Row>& ref, const std::vector<Row>& got, 
   double worst = 0;
   for (std::size_t i = 0; i < ref.size(); ++i) {
     ASSERT_EQ(ref[i].gid, got[i].gid);
-    for (int k = 0; k < 2 * dim + 1; ++k) {
+    for (int k = 0; k < 2 * dim + 2; ++k) {
       const double a = ref[i].value[k], b = got[i].value[k];
       if (std::memcmp(&a, &b, sizeof a) == 0) continue;
       ++mismatches;
@@ -234,6 +235,19 @@ TEST(RankIndependence, TaylorGreen) {
 // particle shifting and the wall repulsion at artificial viscosity 0.02.
 TEST(RankIndependence, DamBreakFreeSurface) {
   expect_rank_independent<2>(load("validation/dam_break_front.yaml", {}), 300);
+}
+
+// Temperature (issue 13 part 2): conduction with walls held cold, the
+// dummy wall temperatures on ghosts, and frozen particles; viscous heating
+// reads the shear rate of ghosts.
+TEST(RankIndependence, ThermalFrozenLayer) {
+  expect_rank_independent<2>(load("validation/frozen_layer.yaml", {}), 300,
+                             /*expect_migration=*/false);
+}
+
+TEST(RankIndependence, ThermalCouetteHeating) {
+  expect_rank_independent<2>(load("validation/couette_heating.yaml", {}), 200,
+                             /*expect_migration=*/false);
 }
 
 TEST(RankIndependence, DamBreakWithForcedRebalancing) {

@@ -6,3 +6,5 @@ sphdem_test(test_sph_terms SOURCES test_sph_terms.cpp RANKS 1 LABELS unit)
 sphdem_test(test_sph_term_registry SOURCES test_sph_term_registry.cpp RANKS 1 LABELS unit)
 # The shear-rate pass: exact for linear velocity fields on the lattice.
 sphdem_test(test_shear_rate SOURCES test_shear_rate.cpp RANKS 1 LABELS unit)
+# Temperature: pairwise conduction by hand and its energy conservation.
+sphdem_test(test_heat SOURCES test_heat.cpp RANKS 1 LABELS unit)

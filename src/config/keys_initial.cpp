@@ -77,6 +77,18 @@ Key<InitialFields> scalar(std::string name, std::string unit,
   return k;
 }
 
+// Shown only when given, so that the identity of a case without it keeps
+// its earlier lines (checkpoints of those cases still restart).
+Key<InitialFields> temperature() {
+  Key<InitialFields> k = scalar("temperature", "K", &InitialFields::temperature,
+                                "with resin.thermal: the temperature as an expression of x, y, z");
+  k.section_settings = [](const InitialFields& f, const std::string& key,
+                          std::vector<Setting>& out) {
+    if (f.temperature) out.push_back({key, f.temperature->text, true, false});
+  };
+  return k;
+}
+
 Section<InitialFields> make_initial_fields() {
   using F = InitialFields;
   Section<F> s;
@@ -89,10 +101,13 @@ Section<InitialFields> make_initial_fields() {
              "the pressure as an expression of x, y, z; the density follows from the equation of "
              "state")
           .identity(),
+      temperature().identity(),
   };
-  s.finish = [](const Map& m, F& f, Context&) {
+  s.finish = [](const Map& m, F& f, Context& ctx) {
     f.line = m.self().line();
     if (f.density && f.pressure) m.require("pressure").fail("give density or pressure, not both");
+    if (f.temperature && !ctx.c.resin.thermal)
+      m.require("temperature").fail("needs resin.thermal (the resin is isothermal)");
   };
   s.intro =
       "Each item sets the resin of one fill region (`fill: k`, the shape `fill[k]`) or of\n"
@@ -106,7 +121,7 @@ Section<InitialFields> make_initial_fields() {
       "Errors name the expression's key and line: one muParser cannot read\n"
       "(`bad expression 'sin(x': Unexpected end of expression at position 6`), and one\n"
       "that is not a finite number at some particle of its fill region (the position is\n"
-      "given). A temperature field joins these keys with the melt model.\n";
+      "given), and a temperature that is not positive.\n";
   return s;
 }
 

@@ -45,6 +45,76 @@ Key<T> unless_default(Key<T> k) {
     if (value != show(T{})) out.push_back({key, std::move(value), true, false});
   };
   return k;
+
+// A temperature in kelvin below this is most likely degrees Celsius: no
+// polymer melt or mold is processed below -23 C.
+constexpr double kCelsiusSuspect = 250.0;
+
+// A temperature key [K]: positive; a warning naming the file, line and key
+// when it looks like Celsius.
+double kelvin(const Value& v, Context& ctx) {
+  const double t = positive(v);
+  if (t < kCelsiusSuspect) {
+    ctx.c.warnings.push_back(fmt::format(
+        "{}:{}: key '{}': {} K looks like degrees Celsius (temperatures are in kelvin: {} C is "
+        "{} K)",
+        v.source().file(), v.line(), v.key(), v.text(), v.text(), show_number(t + 273.15)));
+  }
+  return t;
+}
+
+// The melt must start above its no-flow temperature.
+void finish_thermal(const Map& m, Thermal& t, Context&) {
+  if (t.no_flow_temperature && !(t.temperature > *t.no_flow_temperature)) {
+    m.require("temperature")
+        .fail(fmt::format("the melt temperature {} K is not above no_flow_temperature {} K: the "
+                          "resin would start frozen",
+                          show_number(t.temperature), show_number(*t.no_flow_temperature)));
+  }
+}
+
+Section<Thermal> make_thermal() {
+  using T = Thermal;
+  Section<T> s;
+  Key<T> temperature = number("temperature", "K", positive_number(), &T::temperature,
+                              "melt temperature at t = 0 (initial_fields may override it)");
+  temperature.read = [](const Value& v, T& t, Context& ctx) { t.temperature = kelvin(v, ctx); };
+  Key<T> no_flow =
+      optional_number("no_flow_temperature", "K", positive_number(), &T::no_flow_temperature,
+                      "below it a resin particle stops flowing (holds its position "
+                      "and acts as wall for its neighbours)");
+  no_flow.read = [](const Value& v, T& t, Context& ctx) { t.no_flow_temperature = kelvin(v, ctx); };
+  no_flow.defaults_to("none (never freezes)");
+  s.keys = {
+      std::move(temperature).required().identity(),
+      number("heat_capacity", "J/(kg K)", positive_number(), &T::heat_capacity,
+             "specific heat capacity c_p")
+          .required()
+          .identity(),
+      number("conductivity", "W/(m K)", positive_number(), &T::conductivity,
+             "thermal conductivity k")
+          .required()
+          .identity(),
+      std::move(no_flow).identity(),
+      boolean("viscous_heating", &T::viscous_heating,
+              "add the viscous dissipation eta gamma_dot^2 / (rho c_p) to dT/dt")
+          .identity(),
+      number("time_step_factor", "", in_range(0, 1, true, false), &T::time_step_factor,
+             "dt <= time_step_factor h^2 rho0 c_p / k")
+          .identity(),
+  };
+  s.finish = finish_thermal;
+  s.intro =
+      "Temperature per resin particle, conducted between particles (Cleary & Monaghan\n"
+      "1999) and set at the walls by their `temperature` and `heat_transfer_coefficient`\n"
+      "(docs/physics.md, \"Temperature\"). Temperatures are in kelvin; a value below\n"
+      "250 K gives a warning (it looks like degrees Celsius).\n";
+  return s;
+}
+
+const Section<Thermal>& thermal_keys() {
+  static const Section<Thermal> s = make_thermal();
+  return s;
 }
 
 Section<Resin> make_resin() {
@@ -70,6 +140,9 @@ Section<Resin> make_resin() {
                             "decelerating piston does not pull the resin into tension; see "
                             "`docs/physics.md`")
                          .identity()),
+      optional_mapping("thermal", thermal_keys, &Resin::thermal,
+                       "temperature, conduction, viscous heating, no-flow temperature; none: "
+                       "isothermal"),
   };
   s.finish = [](const Map& m, Resin& r, Context& ctx) {
     finish_sound_speed(m, r, ctx);

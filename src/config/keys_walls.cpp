@@ -52,6 +52,42 @@ Key<W> slip_length() {
   return k;
 }
 
+// The thermal condition (resin.thermal): a temperature [K] the wall holds,
+// and optionally a heat-transfer coefficient to it.
+template <class W>
+Key<W> wall_temperature(std::string default_text) {
+  Key<W> k = optional_number<W>("temperature", "K", positive_number(), &W::temperature,
+                                "with resin.thermal: the wall's temperature (the mold "
+                                "temperature); a value below 250 K gives a Celsius warning");
+  k.read = [](const Value& v, W& w, Context& ctx) {
+    const double t = positive(v);
+    if (t < 250.0) {
+      ctx.c.warnings.push_back(fmt::format(
+          "{}:{}: key '{}': {} K looks like degrees Celsius (temperatures are in kelvin: {} C is "
+          "{} K)",
+          v.source().file(), v.line(), v.key(), v.text(), v.text(), show_number(t + 273.15)));
+    }
+    w.temperature = t;
+  };
+  k.defaults_to(std::move(default_text));
+  k.section_settings =
+      only_when_given<W>([](const W& w) { return w.temperature.has_value(); }, k.show);
+  return k;
+}
+
+template <class W>
+Key<W> heat_transfer_coefficient() {
+  Key<W> k = optional_number<W>("heat_transfer_coefficient", "W/(m^2 K)", positive_number(),
+                                &W::heat_transfer_coefficient,
+                                "with temperature: the surface loses htc (T_surface - "
+                                "temperature) per unit area; none: the surface is held at "
+                                "temperature");
+  k.defaults_to("none (held at temperature)");
+  k.section_settings = only_when_given<W>(
+      [](const W& w) { return w.heat_transfer_coefficient.has_value(); }, k.show);
+  return k;
+}
+
 // slip_length belongs to navier_slip, and navier_slip needs it.
 template <class W>
 void check_wall_condition(const Map& m, W& w, Context&) {
@@ -60,6 +96,8 @@ void check_wall_condition(const Map& m, W& w, Context&) {
   if (!navier && w.slip_length) {
     m.require("slip_length").fail("only with wall_condition: navier_slip");
   }
+  if (w.heat_transfer_coefficient && !w.temperature)
+    m.require("heat_transfer_coefficient").fail("only with temperature");
 }
 
 Section<Mold> make_mold() {
@@ -72,6 +110,8 @@ Section<Mold> make_mold() {
           .identity(),
       wall_condition<Mold>("no_slip").identity(),
       slip_length<Mold>().identity(),
+      wall_temperature<Mold>("none (adiabatic)").identity(),
+      heat_transfer_coefficient<Mold>().identity(),
   };
   s.finish = check_wall_condition<Mold>;
   s.notes =
@@ -165,6 +205,8 @@ Section<MovingWall> make_moving_wall() {
           .identity(),
       wall_condition<W>("mold.wall_condition").identity(),
       slip_length<W>().identity(),
+      wall_temperature<W>("mold.temperature").identity(),
+      heat_transfer_coefficient<W>().identity(),
   };
   s.finish = remember_line<W>;
   s.intro = "Each item is a wall that moves with a prescribed velocity (the piston).\n";
@@ -188,6 +230,8 @@ Section<SlidingWall> make_sliding_wall() {
       vector("velocity", "m/s", &W::velocity, "tangential surface velocity").required().identity(),
       wall_condition<W>("mold.wall_condition").identity(),
       slip_length<W>().identity(),
+      wall_temperature<W>("mold.temperature").identity(),
+      heat_transfer_coefficient<W>().identity(),
   };
   s.finish = remember_line<W>;
   s.intro =

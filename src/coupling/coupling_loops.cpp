@@ -119,6 +119,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
   dem.mean_drag.assign(n_dem, Vec<D>::Zero());
   dem.void_fraction.assign(n_dem, 1.0);
   dem.resin_velocity.assign(n_dem, Vec<D>::Zero());
+  dem.resin_temperature.assign(n_dem, 0.0);
 
   // Resin particles (owned and ghosts) near the fibers, in a cell list.
   st.resin_index.clear();
@@ -152,13 +153,16 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
     const double eps = terms::void_fraction(phi, s.drag.eps_min);
     terms::ShepardSum<D> shepard;
     double mu_sum = 0.0;  // sum_r V_r W_fr mu_r, a viscosity law's local viscosity
+    double sum_t = 0.0;   // sum_r V_r W_fr T_r, the resin temperature's Shepard numerator
     near_sorted<D>(resin_cells, st.resin_x, dem.x[f], support, resin_gid, near);
     for (const Near& n : near) {
       const auto r = static_cast<std::size_t>(st.resin_index[static_cast<std::size_t>(n.index)]);
       const double vol_r = sph.mass[r] / sph.rho[r], w = kernel.w(n.r);
       shepard.add(vol_r, w, sph.v[r]);
       if (s.drag.local_viscosity) mu_sum += vol_r * w * sph.viscosity[r];
+      sum_t += vol_r * w * sph.temperature[r];
     }
+    dem.resin_temperature[f] = shepard.has_resin() ? sum_t / shepard.s : 0.0;
     CouplingParams law = s.drag;
     if (s.drag.local_viscosity && shepard.has_resin()) law.mu = mu_sum / shepard.s;
     dem.void_fraction[f] = eps;

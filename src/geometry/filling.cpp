@@ -116,6 +116,31 @@ void hydrostatic_densities(const Case& c, SphParticles<D>& ps, std::size_t n_flu
   }
 }
 
+// With resin.thermal: the resin starts at the melt temperature, each wall
+// particle at its wall's temperature (the melt's when adiabatic) until the
+// first wall extrapolation replaces it.
+template <int D>
+void initial_temperatures(const Case& c, SphParticles<D>& ps) {
+  if (!c.resin.thermal) return;
+  const std::size_t n_moving = c.moving_walls.size();
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    double t = c.resin.thermal->temperature;
+    if (ps.kind[i] == Kind::Wall) {
+      const std::int32_t k = ps.wall[i];
+      const WallConditionKeys& own =
+          k < 0 ? static_cast<const WallConditionKeys&>(c.mold)
+          : static_cast<std::size_t>(k) < n_moving
+              ? static_cast<const WallConditionKeys&>(c.moving_walls[static_cast<std::size_t>(k)])
+              : static_cast<const WallConditionKeys&>(
+                    c.sliding_walls[static_cast<std::size_t>(k) - n_moving]);
+      const WallThermalLaw law = resolve_wall_thermal(own, c.mold);
+      if (!law.adiabatic) t = law.temperature;
+    }
+    ps.temperature[i] = t;
+    ps.temp_half[i] = t;
+  }
+}
+
 }  // namespace
 
 template <int D>
@@ -164,6 +189,7 @@ InitialCounts build_initial_particles(const Case& c, SphParticles<D>& out) {
     out.wall_to_surface.back() = to_mold_surface<D>(c.mold.shapes, p, L.dx);
   }
   hydrostatic_densities<D>(c, out, fluid.size());
+  initial_temperatures<D>(c, out);
   apply_initial_fields<D>(c, fill_of, out);
   return InitialCounts{fluid.size(), wall.size()};
 }

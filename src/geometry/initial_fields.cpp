@@ -39,14 +39,26 @@ void apply_initial_fields(const Case& c, const std::vector<std::size_t>& fill_of
     std::vector<PointExpression> vel;
     for (const Expression& e : item.velocity) vel.emplace_back(e.text);
     const std::optional<Expression>& scalar = item.density ? item.density : item.pressure;
-    std::optional<PointExpression> rho_or_p;
+    std::optional<PointExpression> rho_or_p, temp;
     if (scalar) rho_or_p.emplace(scalar->text);
+    if (item.temperature) temp.emplace(item.temperature->text);
     for (std::size_t i = 0; i < fill_of.size(); ++i) {
       if (item.fill && fill_of[i] != static_cast<std::size_t>(*item.fill)) continue;
       touched[i] = true;
       for (int k = 0; k < D && !vel.empty(); ++k) {
         ps.v[i][k] = evaluate<D>(c, item.velocity[static_cast<std::size_t>(k)],
                                  vel[static_cast<std::size_t>(k)], ps.x[i]);
+      }
+      if (temp) {
+        const double t = evaluate<D>(c, *item.temperature, *temp, ps.x[i]);
+        if (!(t > 0)) {
+          throw InputError(c.source_file, item.temperature->line, item.temperature->key,
+                           fmt::format("gives the temperature {} K (not positive) at a resin "
+                                       "particle",
+                                       t));
+        }
+        ps.temperature[i] = t;
+        ps.temp_half[i] = t;
       }
       if (!rho_or_p) continue;
       const double s = evaluate<D>(c, *scalar, *rho_or_p, ps.x[i]);

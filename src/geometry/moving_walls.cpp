@@ -63,6 +63,7 @@ std::vector<WallMotion> make_wall_motions(const Case& c) {
     w.relax_time = m.pressure_relax_time;
     w.adhesion_pressure = m.adhesion_pressure;
     w.slip = resolve_wall_slip(m, c.mold);
+    w.thermal = resolve_wall_thermal(m, c.mold);
     out.push_back(w);
   }
   for (const SlidingWall& s : c.sliding_walls) {
@@ -70,6 +71,7 @@ std::vector<WallMotion> make_wall_motions(const Case& c) {
     w.name = s.name;
     w.surface_velocity = s.velocity;
     w.slip = resolve_wall_slip(s, c.mold);
+    w.thermal = resolve_wall_thermal(s, c.mold);
     out.push_back(w);
   }
   return out;

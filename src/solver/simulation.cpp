@@ -145,6 +145,7 @@ void ResinModule<D>::rates() {
     kin[k].accel = to_vec<D>(walls_[k].acceleration(time));
     kin[k].pressure_floor = -walls_[k].adhesion_pressure;
     kin[k].slip = walls_[k].slip;
+    kin[k].thermal = walls_[k].thermal;
   }
   const std::vector<WallFaceSample> face = compute_wall_state<D>(sp_, eos_, nl_, kin, ps_);
   update_wall_controllers(walls_, face_means(face), ctx_.clock.dt.dt);
@@ -157,6 +158,7 @@ void ResinModule<D>::rates() {
     halo_.forward(ps_, g);
   });
   compute_fluid_rates<D>(sp_, nl_, ps_);
+  if (sp_.thermal) compute_heat_rates<D>(sp_, nl_, ps_);
 }
 
 template <int D>
@@ -180,13 +182,27 @@ std::optional<TimeStep> ResinModule<D>::stable_dt() {
 
 // The first kick and the drift; the walls move rigidly, exactly for a
 // piecewise-linear table within a segment.
+// With resin.thermal the temperature steps like the density, and a particle
+// below the no-flow temperature at the start of the step is frozen for it:
+// it holds its position at zero velocity (docs/physics.md "No-flow
+// temperature").
 template <int D>
 void ResinModule<D>::predict(double dt) {
   const double half = 0.5 * dt;
+  if (sp_.thermal) {
+    for (std::size_t i = 0; i < ps_.n_owned; ++i) {
+      if (ps_.kind[i] != Kind::Fluid) continue;
+      ps_.frozen[i] = ps_.temperature[i] < sp_.no_flow_temperature ? 1 : 0;
+      if (ps_.frozen[i]) ps_.a[i].setZero();
+      ps_.temp_half[i] = ps_.temperature[i] + half * ps_.dtemp[i];
+      ps_.temperature[i] = ps_.temp_half[i] + half * ps_.dtemp[i];
+    }
+  }
   for (std::size_t i = 0; i < ps_.n_owned; ++i) {
     if (ps_.kind[i] == Kind::Fluid) {
       ps_.v_half[i] = ps_.v[i] + half * ps_.a[i];
       ps_.rho_half[i] = ps_.rho[i] + half * ps_.drho[i];
+      if (ps_.frozen[i]) ps_.v_half[i].setZero();
       ps_.x[i] += dt * ps_.v_half[i];
       ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
       ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
@@ -218,8 +234,10 @@ void ResinModule<D>::correct(double dt) {
   const double half = 0.5 * dt;
   for (std::size_t i = 0; i < ps_.n_owned; ++i) {
     if (ps_.kind[i] == Kind::Fluid) {
+      if (ps_.frozen[i]) ps_.a[i].setZero();
       ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
       ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
+      if (sp_.thermal) ps_.temperature[i] = ps_.temp_half[i] + half * ps_.dtemp[i];
     }
   }
   shift_particles<D>(sp_, dt, ps_);

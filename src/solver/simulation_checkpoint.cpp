@@ -24,6 +24,16 @@ namespace sphdem {
 
 namespace {
 
+// The thermal state (resin.thermal): per-particle columns of their own, not
+// registry checkpoint fields, so that the checkpoints of isothermal cases
+// keep their format (docs/checkpoint.md).
+constexpr const char* kThermalColumns[] = {"temperature", "dtemp"};
+
+template <int D>
+std::vector<double>& thermal_field(SphParticles<D>& ps, int k) {
+  return k == 0 ? ps.temperature : ps.dtemp;
+}
+
 std::string wall_names(const std::vector<WallMotion>& walls) {
   std::string names;
   for (const WallMotion& w : walls) names += w.name + "\n";
@@ -52,6 +62,13 @@ void ResinModule<D>::write_checkpoint(CheckpointWriter& w) {
     throw std::logic_error("sphdem: neighbor list and particles disagree at a checkpoint");
   if (ps_.n_owned > 0) std::memcpy(build.data.data(), xb.data(), build.data.size());
   cols.push_back(std::move(build));
+  for (int k = 0; k < 2 && sp_.thermal; ++k) {
+    const std::vector<double>& f = thermal_field(ps_, k);
+    CheckpointColumn c{kThermalColumns[k], ColumnType::F64, 1, sizeof(double), {}};
+    c.data.resize(ps_.n_owned * sizeof(double));
+    if (ps_.n_owned > 0) std::memcpy(c.data.data(), f.data(), c.data.size());
+    cols.push_back(std::move(c));
+  }
   w.particles("sph", cols);
 }
 
@@ -70,9 +87,23 @@ std::function<void()> ResinModule<D>::read_checkpoint(CheckpointReader& r,
   auto build = std::make_shared<CheckpointColumn>(take_column(cols, "x_at_build", path));
   if (build->row_bytes != sizeof(Vec<D>))
     throw InputError(path, 0, "", "field 'x_at_build' has the wrong size");
+  std::vector<CheckpointColumn> thermal;
+  for (int k = 0; k < 2 && sp_.thermal; ++k) {
+    thermal.push_back(take_column(cols, kThermalColumns[k], path));
+    if (thermal.back().row_bytes != sizeof(double))
+      throw InputError(path, 0, "",
+                       std::string("field '") + kThermalColumns[k] + "' has the wrong size");
+  }
   auto loaded = std::make_shared<SphParticles<D>>();
   const std::size_t rows = cols.empty() ? 0 : cols.front().rows();
   assign_checkpoint_columns(*loaded, cols, rows, path);
+  for (int k = 0; k < static_cast<int>(thermal.size()); ++k) {
+    if (thermal[k].rows() != rows)
+      throw InputError(path, 0, "",
+                       std::string("field '") + kThermalColumns[k] + "' has the wrong size");
+    if (rows > 0)
+      std::memcpy(thermal_field(*loaded, k).data(), thermal[k].data.data(), rows * sizeof(double));
+  }
   if (r.text("wall_names") != wall_names(walls_))
     throw InputError(path, 0, "",
                      "the checkpoint's moving and sliding walls differ from the case's");
@@ -91,6 +122,7 @@ std::function<void()> ResinModule<D>::read_checkpoint(CheckpointReader& r,
       ps_.p[i] = 0.0;  // derived, recomputed before use
       ps_.vwall[i] = ps_.v[i];
       ps_.rho_half[i] = ps_.rho[i];
+      ps_.temp_half[i] = ps_.temperature[i];
       // v_half is free until the next step's first kick: it carries the
       // current position through the rebuild at the positions of the last one.
       ps_.v_half[i] = ps_.x[i];

@@ -32,6 +32,18 @@ SphParams make_sph_params(const Case& c) {
   sp.body_force = c.body_force;
   sp.mold_wall = resolve_wall_slip(c.mold, c.mold);
   sp.output_fields = c.output.fields;
+  if (const auto& th = c.resin.thermal) {
+    sp.thermal = true;
+    sp.heat_capacity = th->heat_capacity;
+    sp.conductivity = th->conductivity;
+    if (th->no_flow_temperature) sp.no_flow_temperature = *th->no_flow_temperature;
+    sp.viscous_heating = th->viscous_heating && sp.mu > 0;
+    sp.thermal_factor = th->time_step_factor;
+    sp.mold_thermal = resolve_wall_thermal(c.mold, c.mold);
+    // Viscous heating reads the shear rate: its pass runs when its field is
+    // requested (src/sph/pass_loop.hpp).
+    if (sp.viscous_heating) sp.output_fields.emplace_back("shear_rate");
+  }
   return sp;
 }
 
@@ -66,12 +78,18 @@ double gradient_lattice_correction(int dimension, double h_over_spacing) {
                                : lattice_moment<3>(h_over_spacing, false));
 }
 
+double thermal_time_step(const SphParams& sp) {
+  return sp.thermal_factor * sp.h * sp.h * sp.rho0 * sp.heat_capacity / sp.conductivity;
+}
+
+// A frozen particle (below the no-flow temperature) holds its position: its
+// acceleration does not move it, so it does not limit the step either.
 template <int D>
 LocalExtremes local_extremes(const SphParticles<D>& ps) {
   double v2 = 0.0, a2 = 0.0, mu = 0.0;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     v2 = std::max(v2, ps.v[i].squaredNorm());
-    if (ps.kind[i] == Kind::Fluid) {
+    if (ps.kind[i] == Kind::Fluid && ps.frozen[i] == 0) {
       a2 = std::max(a2, ps.a[i].squaredNorm());
       mu = std::max(mu, ps.viscosity[i]);
     }
@@ -93,6 +111,8 @@ const char* to_string(DtLimit l) {
       return "dem";
     case DtLimit::Drag:
       return "drag";
+    case DtLimit::Thermal:
+      return "thermal";
   }
   return "?";
 }
@@ -111,6 +131,10 @@ TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max
   if (mu > 0) {
     const double dt_v = num.viscous_factor * sp.h * sp.h * sp.rho0 / mu;
     if (dt_v < ts.dt) ts = {dt_v, DtLimit::Viscous};
+  }
+  if (sp.thermal) {
+    const double dt_t = thermal_time_step(sp);
+    if (dt_t < ts.dt) ts = {dt_t, DtLimit::Thermal};
   }
   return ts;
 }

@@ -3,6 +3,8 @@
 //   P_w = (sum_f P_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf
 //   rho_w = EOS^-1(P_w)
 //   v_w(no-slip) = 2 v_w - v~,  v~ = sum_f v_f W_wf / sum_f W_wf
+// and, with resin.thermal, the temperature the wall shows the resin the
+// same way: T_w = 2 T_s - T~ (dummy_temperature, src/sph/heat.cpp).
 // Slip walls (docs/physics.md "Wall conditions") keep the normal part of the
 // no-slip velocity (the wall stays impermeable) and change the tangential
 // part, see dummy_velocity below.
@@ -59,7 +61,7 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
   for (std::size_t w = 0; w < ps.n_owned; ++w) {
     if (ps.kind[w] != Kind::Wall) continue;
     const Vec<D> xw = ps.x[w];
-    double sum_w = 0.0, sum_p = 0.0;
+    double sum_w = 0.0, sum_p = 0.0, sum_t = 0.0;
     Vec<D> sum_rho_r = Vec<D>::Zero(), sum_v = Vec<D>::Zero();
     for (std::size_t n = nl.begin(w), e = nl.end(w); n < e; ++n) {
       const std::int32_t f = nb[n];
@@ -70,15 +72,25 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
       sum_p += ps.p[f] * W;
       sum_rho_r += (ps.rho[f] * W) * r_wf;
       sum_v += W * ps.v[f];
+      if (sp.thermal) sum_t += W * ps.temperature[f];
     }
     const std::int32_t k = ps.wall[w];
+    const bool listed = k >= 0 && static_cast<std::size_t>(k) < walls.size();
+    if (sp.thermal) {
+      const WallThermalLaw& heat =
+          listed ? walls[static_cast<std::size_t>(k)].thermal : sp.mold_thermal;
+      if (sum_w > 0.0)
+        ps.temperature[w] =
+            dummy_temperature(heat, sp.conductivity, sum_t / sum_w, ps.wall_to_surface[w].norm());
+      else if (!heat.adiabatic)
+        ps.temperature[w] = heat.temperature;
+    }
     if (sum_w <= 0.0) {
       ps.p[w] = eos.ambient();
       ps.rho[w] = eos.rho0();
       ps.vwall[w] = ps.v[w];
       continue;
     }
-    const bool listed = k >= 0 && static_cast<std::size_t>(k) < walls.size();
     const Vec<D> a_w = listed ? walls[static_cast<std::size_t>(k)].accel : Vec<D>::Zero();
     // A wall pushes but does not pull (floor 0): resin may leave it, the gap
     // filling with air at ambient (gauge 0) pressure. A moving wall may hold

@@ -3,6 +3,7 @@
 // Produced by config/ (load_case), consumed by geometry/ and solver/.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,6 +48,17 @@ struct MeltViscosity {
   std::string material;                       // the material file it came from, if any
 };
 
+// The resin's temperature model (docs/physics.md "Temperature"): off
+// unless `resin.thermal` is given.
+struct Thermal {
+  double temperature = 0;                     // melt temperature at t = 0 [K]
+  double heat_capacity = 0;                   // c_p [J/(kg K)]
+  double conductivity = 0;                    // k [W/(m K)]
+  std::optional<double> no_flow_temperature;  // [K], below it the melt stops flowing
+  bool viscous_heating = false;               // phi = eta gamma_dot^2
+  double time_step_factor = 0.1;              // dt <= factor h^2 rho0 c_p / k
+};
+
 struct Resin {
   double density = 0;                      // rho0 [kg/m^3]
   double viscosity = 0;                    // mu [Pa s]; non-Newtonian: the largest the law reaches
@@ -55,6 +67,7 @@ struct Resin {
   double sound_speed = 0;                  // c0 [m/s], given or from mach * reference_velocity
   double gamma = 7.0;                      // Tait exponent
   double ambient_pressure = 0;             // [Pa] added to the Tait pressure (docs/physics.md)
+  std::optional<Thermal> thermal;          // none: isothermal (docs/physics.md "Temperature")
 };
 
 enum class ViscosityModel { Morris, None };
@@ -93,6 +106,10 @@ enum class WallSlip { NoSlip, FreeSlip, NavierSlip };
 struct WallConditionKeys {
   std::optional<WallSlip> wall_condition;
   std::optional<double> slip_length;  // [m], navier_slip only
+  // Thermal condition (resin.thermal only): held at `temperature` [K], or
+  // through a heat-transfer coefficient [W/(m^2 K)] to it; none: adiabatic.
+  std::optional<double> temperature;
+  std::optional<double> heat_transfer_coefficient;
 };
 
 // A resolved wall condition.
@@ -100,6 +117,23 @@ struct WallSlipLaw {
   WallSlip type = WallSlip::NoSlip;
   double slip_length = 0;  // [m], navier_slip
 };
+
+// A resolved thermal wall condition: the dummy particles show the resin the
+// temperature that makes the surface obey -k dT/dn = htc (T_s - T_wall)
+// (htc = infinity: T_s = T_wall; no temperature: adiabatic).
+struct WallThermalLaw {
+  bool adiabatic = true;
+  double temperature = 0;  // [K]
+  double htc = 0;          // [W/(m^2 K)], infinity: held at temperature
+};
+
+inline WallThermalLaw resolve_wall_thermal(const WallConditionKeys& own,
+                                           const WallConditionKeys& mold) {
+  const WallConditionKeys& from = own.temperature ? own : mold;
+  if (!from.temperature) return {};
+  return {false, *from.temperature,
+          from.heat_transfer_coefficient.value_or(std::numeric_limits<double>::infinity())};
+}
 
 // The condition of a wall that gives `own` keys, falling back to the mold's.
 inline WallSlipLaw resolve_wall_slip(const WallConditionKeys& own, const WallConditionKeys& mold) {
@@ -146,12 +180,12 @@ struct Expression {
 };
 
 // Initial fields of the resin of some fill regions, as expressions.
-// Temperature joins these with the melt model (issue 18 leaves it out).
 struct InitialFields {
-  std::optional<int> fill;             // index into Case::fill; none: every fill region
-  std::vector<Expression> velocity;    // D components, or empty: initial_velocity
-  std::optional<Expression> density;   // [kg/m^3]
-  std::optional<Expression> pressure;  // [Pa], density from the equation of state
+  std::optional<int> fill;                // index into Case::fill; none: every fill region
+  std::vector<Expression> velocity;       // D components, or empty: initial_velocity
+  std::optional<Expression> density;      // [kg/m^3]
+  std::optional<Expression> pressure;     // [Pa], density from the equation of state
+  std::optional<Expression> temperature;  // [K], with resin.thermal only
   int line = 0;
 };
 

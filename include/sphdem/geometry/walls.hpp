@@ -27,6 +27,7 @@ struct WallMotion {
   double relax_time = 1e-3;
   double adhesion_pressure = 0;  // floor of the extrapolated wall pressure is minus this
   WallSlipLaw slip;              // what the resin sees at this wall
+  WallThermalLaw thermal;        // its temperature (resin.thermal)
   Vec3a surface_velocity{};
   double scale = 1.0;        // controller state (part of the checkpoint)
   double face_pressure = 0;  // last measured mean pressure on the face

@@ -186,7 +186,10 @@ enum class DemGroup : std::uint8_t { State = 0, Coupling = 1 };
   X(Rot<D>, torque_lever, in_group(DemGroup::Coupling))                                          \
   X(Vec<D>, resin_offset, in_group(DemGroup::Coupling))                                          \
   X(double, void_fraction, kLocal)                                                               \
-  X(Vec<D>, resin_velocity, kLocal)
+  X(Vec<D>, resin_velocity, kLocal)                                                              \
+  /* The resin's temperature at x_f [K], the same Shepard filter (resin.thermal; */              \
+  /* the fibers' own heat capacity is neglected, docs/physics.md "Temperature"). */              \
+  X(double, resin_temperature, output_as("resin_temperature", "K"))
 
 template <int D>
 struct DemParticles {

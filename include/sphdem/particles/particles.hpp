@@ -53,6 +53,15 @@ enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2, Fr
   X(double, rho,                                                                                  \
     kGhost | in_group(SphGroup::State) | in_group(SphGroup::WallState) | kMigrate | kCheckpoint | \
         output_as("density", "kg/m^3"))                                                           \
+  /* temperature (resin.thermal); walls: the dummy value the resin sees (Adami-style). */         \
+  /* Checkpointed by the resin module when the case is thermal (not kCheckpoint: checkpoints */   \
+  /* of isothermal cases keep their format). */                                                   \
+  X(double, temperature,                                                                          \
+    kGhost | in_group(SphGroup::State) | in_group(SphGroup::WallState) | kMigrate |               \
+        output_as("temperature", "K"))                                                            \
+  X(double, dtemp, kMigrate) /* dT/dt [K/s] (owned resin) */                                      \
+  /* 1: below the no-flow temperature this step (holds its position) */                           \
+  X(std::int32_t, frozen, kMigrate | output_as("frozen", "1"))                                    \
   /* Derived every rate evaluation. */                                                            \
   /* pressure; walls: extrapolated */                                                             \
   X(double, p, kGhost | in_group(SphGroup::WallState) | output_as("pressure", "Pa"))              \
@@ -77,7 +86,8 @@ enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2, Fr
   /* migrate: the neighbor rebuild (and so migration) sits between the */                         \
   /* drift and the second kick, which reads them. */                                              \
   X(Vec<D>, v_half, kMigrate)                                                                     \
-  X(double, rho_half, kMigrate)
+  X(double, rho_half, kMigrate)                                                                   \
+  X(double, temp_half, kMigrate)
 
 template <int D>
 struct SphParticles {

@@ -5,6 +5,7 @@
 // this module knows about ranks: it reads ghosts and writes owned particles.
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,15 @@ struct SphParams {
   bool wall_repulsion = false;  // Monaghan (1994) wall force (wall_repulsion.cpp)
   Vec3a body_force{};
   WallSlipLaw mold_wall;  // the condition of the fixed mold walls (wall index -1)
+  // Temperature (resin.thermal, docs/physics.md "Temperature"); off: T is
+  // never touched and nothing below runs.
+  bool thermal = false;
+  double heat_capacity = 0;                                               // c_p [J/(kg K)]
+  double conductivity = 0;                                                // k [W/(m K)]
+  double no_flow_temperature = -std::numeric_limits<double>::infinity();  // [K]
+  bool viscous_heating = false;
+  double thermal_factor = 0.1;  // dt <= thermal_factor h^2 rho0 c_p / k
+  WallThermalLaw mold_thermal;  // of the fixed mold walls (wall index -1)
   // output.fields: a neighbour-sum pass whose field is named here runs even
   // when no active term reads it (src/sph/pass_loop.hpp).
   std::vector<std::string> output_fields;
@@ -78,6 +88,7 @@ struct WallKinematics {
   Vec<D> accel = Vec<D>::Zero();  // the wall's acceleration [m/s^2]
   double pressure_floor = 0.0;    // lowest extrapolated pressure [Pa]
   WallSlipLaw slip;               // what the resin sees at this wall
+  WallThermalLaw thermal;         // its thermal condition (resin.thermal)
 };
 
 // Dummy-particle walls (Adami, Hu & Adams 2012): every owned wall particle
@@ -117,6 +128,34 @@ void shift_particles(const SphParams& sp, double dt, SphParticles<D>& ps);
 template <int D>
 void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps);
 
+// Temperature (docs/physics.md "Temperature"), with sp.thermal only.
+// Conduction in the pairwise form of Cleary & Monaghan (1999, JCP 148:227),
+//   dT_i/dt = 1/c_p sum_j 4 m_j / (rho_i rho_j) k_i k_j / (k_i + k_j)
+//             (T_i - T_j) x_ij . grad_i W_ij / (r_ij^2 + eta^2),
+// antisymmetric in i and j, so sum_i m_i c_p dT_i/dt = 0 over resin pairs
+// (energy is conserved exactly), plus viscous heating mu gamma_dot^2 /
+// (rho_i c_p) when asked (reads the shear-rate field). Wall neighbours are
+// the dummy particles of compute_wall_state, whose temperature holds the
+// wall's condition. Writes dtemp of the owned resin particles.
+template <int D>
+void compute_heat_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps);
+
+// One pair's part of du_i/dt = c_p dT_i/dt [W/kg]: the Cleary-Monaghan
+// term above, with F = grad W_ij / x_ij (F < 0) and r2 = |x_ij|^2.
+inline double conduction_pair(double m_j, double rho_i, double rho_j, double k_i, double k_j,
+                              double F, double r2, double eta2, double T_i, double T_j) {
+  return 4.0 * m_j / (rho_i * rho_j) * (k_i * k_j / (k_i + k_j)) * F * r2 / (r2 + eta2) *
+         (T_i - T_j);
+}
+
+// The temperature a dummy wall particle at depth d = |s| behind the wall
+// shows the resin, given the resin's Shepard mean T~ near it: the surface
+// temperature T_s obeys k (T~ - T_s) / d = htc (T_s - T_wall) (T~ seen at
+// depth d in front of the wall), and the dummy holds the mirror value
+// 2 T_s - T~ (as the no-slip velocity 2 v_w - v~ of Adami et al. 2012).
+// Held (htc infinite): 2 T_wall - T~; adiabatic: T~.
+double dummy_temperature(const WallThermalLaw& law, double conductivity, double t_mean, double d);
+
 // Largest speed (resin and walls) and resin acceleration over owned particles.
 struct LocalExtremes {
   double v_max = 0;
@@ -131,7 +170,8 @@ LocalExtremes local_extremes(const SphParticles<D>& ps);
 // Dem: the stable DEM step of a fibers-only run (run.hpp).
 // New limits go at the end (checkpoints store the number; the restart
 // accepts up to the last one, src/solver/run.cpp).
-enum class DtLimit { Cfl, Force, Viscous, Fixed, Dem, Drag };
+// Thermal: dt <= thermal_factor h^2 rho0 c_p / k (resin.thermal).
+enum class DtLimit { Cfl, Force, Viscous, Fixed, Dem, Drag, Thermal };
 const char* to_string(DtLimit l);
 struct TimeStep {
   double dt = 0;
@@ -140,5 +180,7 @@ struct TimeStep {
 // mu_max: the largest particle viscosity of a law (negative: sp.mu).
 TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max, double a_max,
                           double mu_max = -1.0);
+// The thermal limit thermal_factor h^2 rho0 c_p / k (sp.thermal only).
+double thermal_time_step(const SphParams& sp);
 
 }  // namespace sphdem
