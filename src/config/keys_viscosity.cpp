@@ -314,21 +314,30 @@ void finish_melt(const Map& m, Resin& r, Context&) {
   V& law = r.melt;
   if (law.law == ViscosityLaw::Newtonian) return;
   if (law.law == ViscosityLaw::CrossWlf) {
-    const Value t = m.require("melt_temperature",
-                              " (model 'cross_wlf' needs the melt's "
-                              "temperature, K)");
-    const double T = *r.melt_temperature;
+    // With resin.thermal each particle carries its temperature and the law
+    // reads it; the melt temperature is then thermal.temperature, given once.
+    if (r.thermal && m.get("melt_temperature")) {
+      m.require("melt_temperature")
+          .fail(
+              "with resin.thermal the melt temperature is resin.thermal.temperature; give it "
+              "once");
+    }
+    const Value t = r.thermal ? m.require("thermal")
+                              : m.require("melt_temperature",
+                                          " (model 'cross_wlf' needs the melt's "
+                                          "temperature, K)");
+    const double T = r.thermal ? r.thermal->temperature : *r.melt_temperature;
     if (law.no_flow_temperature && T < *law.no_flow_temperature) {
       t.fail(fmt::format("{} K is below the no-flow temperature {} K: the melt would not flow",
-                         t.text(), show_number(*law.no_flow_temperature)));
+                         show_number(T), show_number(*law.no_flow_temperature)));
     }
     if (!(T - law.d2 + law.a2_tilde > 0.0)) {
       t.fail(fmt::format("{} K is at or below T* - A2~ = {} K, where the WLF shift is singular",
-                         t.text(), show_number(law.d2 - law.a2_tilde)));
+                         show_number(T), show_number(law.d2 - law.a2_tilde)));
     }
   }
   // The largest viscosity: max, or the zero-shear value (shear thinning).
-  const double T = r.melt_temperature.value_or(0.0);
+  const double T = r.thermal ? r.thermal->temperature : r.melt_temperature.value_or(0.0);
   r.viscosity = law.max ? *law.max : std::max(law.min, viscosity_law(law, 0.0, 0.0, T, 0.0));
 }
 

@@ -42,7 +42,9 @@ void compute_heat_rates(const SphParams& sp, const NeighborList<D>& nl, SphParti
     double rate = scale * du;
     if (sp.viscous_heating) {
       const double g = ps.shear_rate[i];
-      rate += sp.mu * g * g / (rho_i * sp.heat_capacity);
+      // A viscosity law's particle viscosity, else the Newtonian mu.
+      const double mu = sp.variable_viscosity ? ps.viscosity[i] : sp.mu;
+      rate += mu * g * g / (rho_i * sp.heat_capacity);
     }
     ps.dtemp[i] = rate;
   }

@@ -36,7 +36,13 @@ SphParams make_sph_params(const Case& c) {
     sp.thermal = true;
     sp.heat_capacity = th->heat_capacity;
     sp.conductivity = th->conductivity;
-    if (th->no_flow_temperature) sp.no_flow_temperature = *th->no_flow_temperature;
+    // The freezing threshold: the thermal key, else the viscosity law's
+    // own no-flow temperature (Cross-WLF material data carry one).
+    if (th->no_flow_temperature) {
+      sp.no_flow_temperature = *th->no_flow_temperature;
+    } else if (c.resin.melt.no_flow_temperature) {
+      sp.no_flow_temperature = *c.resin.melt.no_flow_temperature;
+    }
     sp.viscous_heating = th->viscous_heating && sp.mu > 0;
     sp.thermal_factor = th->time_step_factor;
     sp.mold_thermal = resolve_wall_thermal(c.mold, c.mold);

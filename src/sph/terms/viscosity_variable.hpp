@@ -19,11 +19,12 @@
 
 namespace sphdem::terms {
 
-// The temperature the law reads at particle i. Until the resin has a
-// temperature field it is the case's resin.melt_temperature (K).
+// The temperature the law reads at particle i: its own (resin.thermal;
+// a ghost's arrives with the State exchange), else the case's
+// resin.melt_temperature (K).
 template <int D>
-inline double particle_temperature(const SphParams& sp, const SphParticles<D>&, std::size_t) {
-  return sp.melt_temperature;
+inline double particle_temperature(const SphParams& sp, const SphParticles<D>& ps, std::size_t i) {
+  return sp.thermal ? ps.temperature[i] : sp.melt_temperature;
 }
 
 // Every resin particle's viscosity (owned and ghosts: a ghost's shear rate
