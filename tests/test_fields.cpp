@@ -218,12 +218,12 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::Coupling), 8u * 4);
   EXPECT_EQ(sph_output_fields(),
             (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "pressure",
-                                      "acceleration", "shear_rate"}));
+                                      "acceleration", "shear_rate", "viscosity"}));
   std::vector<std::string> sph, dem;
   for (const CheckpointColumn& c : checkpoint_columns(SphParticles<2>{})) sph.push_back(c.name);
   for (const CheckpointColumn& c : checkpoint_columns(DemParticles<2>{})) dem.push_back(c.name);
   EXPECT_EQ(sph, (std::vector<std::string>{"gid", "kind", "wall", "mass", "wall_to_surface", "x",
-                                           "v", "rho", "a", "drho"}));
+                                           "v", "rho", "a", "drho", "viscosity"}));
   EXPECT_EQ(dem, (std::vector<std::string>{"gid", "fiber", "fixed", "radius", "mass", "inertia",
                                            "x", "v", "omega", "force", "torque", "f_ext",
                                            "drag_coeff", "drag_velocity", "drag_force",
