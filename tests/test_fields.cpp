@@ -216,15 +216,16 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   EXPECT_EQ(dem_bytes(DemParticles<3>(), DemGroup::State), 8u * 9);
   // shepard_sum, drag_coeff (the resin drag rate), mean_drag
   EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::Coupling), 8u * 4);
-  EXPECT_EQ(sph_output_fields(),
-            (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "temperature",
-                                      "frozen", "pressure", "acceleration", "shear_rate",
-                                      "free_surface", "surface_normal", "position_divergence"}));
+  EXPECT_EQ(
+      sph_output_fields(),
+      (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "temperature", "frozen",
+                                "pressure", "acceleration", "shear_rate", "viscosity",
+                                "free_surface", "surface_normal", "position_divergence"}));
   std::vector<std::string> sph, dem;
   for (const CheckpointColumn& c : checkpoint_columns(SphParticles<2>{})) sph.push_back(c.name);
   for (const CheckpointColumn& c : checkpoint_columns(DemParticles<2>{})) dem.push_back(c.name);
   EXPECT_EQ(sph, (std::vector<std::string>{"gid", "kind", "wall", "mass", "wall_to_surface", "x",
-                                           "v", "rho", "a", "drho"}));
+                                           "v", "rho", "a", "drho", "viscosity"}));
   EXPECT_EQ(dem, (std::vector<std::string>{
                      "gid",          "fiber", "fixed",      "radius",        "mass",
                      "inertia",      "x",     "v",          "omega",         "force",
