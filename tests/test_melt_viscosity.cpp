@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "../src/sph/terms/viscosity_variable.hpp"
 #include "mpi_test_helpers.hpp"
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
@@ -217,6 +218,33 @@ TEST(ViscosityKeys, CrossWlfTemperatures) {
   EXPECT_NE(cold.find("below the no-flow temperature 400 K"), std::string::npos) << cold;
   const std::string none = error_of(base_case(wlf("263.15", "")));
   EXPECT_NE(none.find("melt_temperature"), std::string::npos) << none;
+}
+
+// With resin.thermal the law reads each particle's own temperature (a cold
+// particle near the mold is more viscous), the melt temperature is the
+// thermal block's, and giving it twice is an error.
+TEST(ViscosityKeys, CrossWlfReadsTheParticleTemperature) {
+  const std::string thermal =
+      "  thermal: {temperature: 503.15, heat_capacity: 2000, conductivity: 0.2}\n";
+  const Case c = load_case_from_string(base_case(wlf("263.15", "") + thermal), "case.yaml");
+  EXPECT_NEAR(c.resin.viscosity / (1.0e14 * std::exp(-30.0 * 240.0 / 291.6)), 1.0, 1e-12);
+  const std::string twice = error_of(base_case(wlf("263.15", "503.15") + thermal));
+  EXPECT_NE(twice.find("key 'resin.melt_temperature'"), std::string::npos) << twice;
+  EXPECT_NE(twice.find("give it once"), std::string::npos) << twice;
+
+  const SphParams sp = make_sph_params(c);
+  ASSERT_TRUE(sp.thermal && sp.variable_viscosity);
+  SphParticles<2> ps;
+  for (std::int64_t i = 0; i < 2; ++i) {
+    ps.push_owned(i, Kind::Fluid, -1, 1e-6, Vec<2>(0.001 * double(i), 0), Vec<2>::Zero(), 900);
+    ps.shear_rate[std::size_t(i)] = 100.0;
+  }
+  ps.temperature[0] = 503.15;
+  ps.temperature[1] = 453.15;
+  terms::compute_particle_viscosity(sp, ps);
+  EXPECT_DOUBLE_EQ(ps.viscosity[0], melt_viscosity(c.resin.melt, sp.mu, 100.0, 503.15, 0.0));
+  EXPECT_DOUBLE_EQ(ps.viscosity[1], melt_viscosity(c.resin.melt, sp.mu, 100.0, 453.15, 0.0));
+  EXPECT_GT(ps.viscosity[1], 2.0 * ps.viscosity[0]);
 }
 
 // Every grade of the material library loads, with the source it cites.
