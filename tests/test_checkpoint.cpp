@@ -383,7 +383,7 @@ TEST(Checkpoint, ColumnsRoundTripAContainer) {
   std::vector<std::string> names;
   for (const auto& c : cols) names.push_back(c.name);
   EXPECT_EQ(names, (std::vector<std::string>{"gid", "kind", "wall", "mass", "wall_to_surface", "x",
-                                             "v", "rho", "a", "drho"}));
+                                             "v", "rho", "a", "drho", "viscosity"}));
   EXPECT_EQ(cols[5].type, ColumnType::F64);
   EXPECT_EQ(cols[5].components, 2);
   EXPECT_EQ(cols[1].type, ColumnType::U8);

@@ -214,8 +214,10 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   };
   EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::State), 8u * 5);  // x, v, omega
   EXPECT_EQ(dem_bytes(DemParticles<3>(), DemGroup::State), 8u * 9);
-  // shepard_sum, drag_coeff (the resin drag rate), mean_drag
-  EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::Coupling), 8u * 4);
+  // shepard_sum, drag_coeff (the resin drag rate), mean_drag, and the
+  // hydrodynamic torque's lever and resin offset
+  EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::Coupling), 8u * 7);
+  EXPECT_EQ(dem_bytes(DemParticles<3>(), DemGroup::Coupling), 8u * 11);
   EXPECT_EQ(
       sph_output_fields(),
       (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "temperature", "frozen",
@@ -226,11 +228,30 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   for (const CheckpointColumn& c : checkpoint_columns(DemParticles<2>{})) dem.push_back(c.name);
   EXPECT_EQ(sph, (std::vector<std::string>{"gid", "kind", "wall", "mass", "wall_to_surface", "x",
                                            "v", "rho", "a", "drho", "viscosity"}));
-  EXPECT_EQ(dem, (std::vector<std::string>{
-                     "gid",          "fiber", "fixed",      "radius",        "mass",
-                     "inertia",      "x",     "v",          "omega",         "force",
-                     "torque",       "f_ext", "drag_coeff", "drag_velocity", "drag_force",
-                     "drag_impulse", "bonds", "bond_peaks", "contacts",      "wall_contacts"}));
+  EXPECT_EQ(dem, (std::vector<std::string>{"gid",
+                                           "fiber",
+                                           "fixed",
+                                           "radius",
+                                           "mass",
+                                           "inertia",
+                                           "x",
+                                           "v",
+                                           "omega",
+                                           "force",
+                                           "torque",
+                                           "f_ext",
+                                           "drag_coeff",
+                                           "drag_velocity",
+                                           "drag_force",
+                                           "drag_impulse",
+                                           "torque_coeff",
+                                           "resin_spin",
+                                           "hydro_torque",
+                                           "torque_impulse",
+                                           "bonds",
+                                           "bond_peaks",
+                                           "contacts",
+                                           "wall_contacts"}));
 }
 
 }  // namespace

@@ -234,7 +234,10 @@ TEST(RankIndependence, TaylorGreen) {
 // The free-surface dam break (issue 18 part 2): the free-surface pass,
 // particle shifting and the wall repulsion at artificial viscosity 0.02.
 TEST(RankIndependence, DamBreakFreeSurface) {
-  expect_rank_independent<2>(load("validation/dam_break_front.yaml", {}), 300);
+  // 300 steps is the column's first slump: at 3 ranks no particle has
+  // crossed a rank boundary yet, so only the ghosts are compared there.
+  expect_rank_independent<2>(load("validation/dam_break_front.yaml", {}), 300,
+                             /*expect_migration=*/false);
 }
 
 // Temperature (issue 13 part 2): conduction with walls held cold, the

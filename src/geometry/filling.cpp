@@ -1,6 +1,8 @@
 // Initial particles on a Cartesian lattice of pitch `spacing`, with nodes at
 // origin + (i + 1/2) spacing. The origin is the domain's lower corner when
 // the case gives one (so a periodic box tiles exactly), else 0.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -31,10 +33,31 @@ template <int D>
 Lattice<D> make_lattice(const Case& c, const Box<D>& dom) {
   Lattice<D> L;
   L.dx = c.numerics.spacing;
+  // Only nodes inside the mold or within its wall layers become particles,
+  // so the node range is the domain's clipped to the mold's box plus the
+  // wall layers and a node of margin: a domain far larger than the mold
+  // (a typo, or a fuzzed extreme number) costs nothing, and the nodes
+  // visited that can hold a particle, and their order, are unchanged.
+  const Box<D> mold = mold_bounds<D>(c);
+  const double reach = (c.mold.wall_layers + 2) * L.dx;
   for (int k = 0; k < D; ++k) {
     L.origin[k] = c.domain_lo ? (*c.domain_lo)[k] : 0.0;
-    L.first[k] = static_cast<long>(std::floor((dom.lo[k] - L.origin[k]) / L.dx));
-    L.last[k] = static_cast<long>(std::ceil((dom.hi[k] - L.origin[k]) / L.dx)) - 1;
+    // Node indices are longs and positions origin + (i + 1/2) dx: beyond
+    // 1e9 spacings per axis neither the indices nor the positions hold.
+    const double spacings = (dom.hi[k] - dom.lo[k]) / L.dx;
+    if (!(spacings <= 1e9)) {
+      throw input_error_at(c, "domain",
+                           fmt::format("spans {:.3g} spacings along axis {}; at most 1e9 (is an "
+                                       "extent or numerics.spacing off by orders of magnitude?)",
+                                       spacings, k));
+    }
+    double lo = dom.lo[k], hi = dom.hi[k];
+    if (mold.lo[k] <= mold.hi[k]) {
+      lo = std::max(lo, mold.lo[k] - reach);
+      hi = std::min(hi, mold.hi[k] + reach);
+    }
+    L.first[k] = static_cast<long>(std::floor((lo - L.origin[k]) / L.dx));
+    L.last[k] = static_cast<long>(std::ceil((hi - L.origin[k]) / L.dx)) - 1;
     if (c.periodic[k]) {
       const double cells = (dom.hi[k] - dom.lo[k]) / L.dx;
       if (std::abs(cells - std::round(cells)) > 1e-6) {
