@@ -100,6 +100,11 @@ int main(int argc, char** argv) {
                     n, static_cast<long long>(sim.global_fluid_count()), steps, comm.size());
         std::printf("loop:  %.3f s  %.3f M particle-steps/s\n", loop, n * steps / loop / 1e6);
         std::printf("whole: %.3f s  %.3f M particle-steps/s\n", whole, n * steps / whole / 1e6);
+        // What the memory per particle is made of (docs/performance.md).
+        std::printf("lists: %.2f pairs per particle (rank 0), %lld rebuilds\n",
+                    static_cast<double>(sim.resin()->neighbor_pairs()) /
+                        static_cast<double>(sim.particles().n_owned),
+                    static_cast<long long>(sim.resin()->neighbor_builds()));
       }
     }
   }

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages sphdem needs (build, tests, tools). Idempotent:
 # packages already present are skipped, so a second run costs a few seconds.
-# Usage: scripts/install-deps.sh [--no-paraview]
+# Usage: scripts/install-deps.sh [--no-paraview] [--peer]
+#   --peer: also what tools/bench_vs_lammps.sh needs to build and time the
+#           LAMMPS peer from Debian's source package (not needed otherwise)
 set -euo pipefail
 want=(
   build-essential cmake pkg-config clang-format
@@ -12,7 +14,15 @@ want=(
 )
 # ParaView needs an X display: tools/render.py runs under xvfb-run (xvfb, xauth);
 # ffmpeg encodes its animations.
-if [[ "${1:-}" != "--no-paraview" ]]; then want+=(python3-paraview paraview xvfb xauth ffmpeg); fi
+paraview=1
+for a in "$@"; do
+  case "$a" in
+    --no-paraview) paraview=0 ;;
+    --peer) want+=(dpkg-dev debian-archive-keyring hyperfine) ;;
+    *) echo "install-deps: unknown option '$a' (--no-paraview, --peer)" >&2; exit 2 ;;
+  esac
+done
+if ((paraview)); then want+=(python3-paraview paraview xvfb xauth ffmpeg); fi
 missing=()
 for p in "${want[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -53,14 +53,16 @@ template <int D>
 void bin(const Grid<D>& g, const std::vector<Vec<D>>& x, std::size_t count,
          std::vector<std::int32_t>& start, std::vector<std::int32_t>& items) {
   start.assign(static_cast<std::size_t>(g.cells()) + 1, 0);
-  std::vector<std::int32_t> cell_of(count);
+  // Scratch kept across rebuilds (no fresh pages at every rebuild).
+  thread_local std::vector<std::int32_t> cell_of, fill;
+  cell_of.resize(count);
   for (std::size_t i = 0; i < count; ++i) {
     cell_of[i] = static_cast<std::int32_t>(g.index(x[i]));
     ++start[static_cast<std::size_t>(cell_of[i]) + 1];
   }
   std::partial_sum(start.begin(), start.end(), start.begin());
   items.resize(count);
-  std::vector<std::int32_t> fill(start.begin(), start.end() - 1);
+  fill.assign(start.begin(), start.end() - 1);
   for (std::size_t i = 0; i < count; ++i) items[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
 }
 
@@ -125,9 +127,12 @@ bool NeighborList<D>::needs_rebuild(const SphParticles<D>& ps) const {
 template <int D>
 void sort_by_cell(SphParticles<D>& ps, double cell) {
   const Grid<D> g = make_grid<D>(ps.x, ps.n_owned, cell);
-  std::vector<long> key(ps.n_owned);
+  // Scratch kept across rebuilds (no fresh pages at every rebuild).
+  thread_local std::vector<long> key;
+  thread_local std::vector<std::size_t> order;
+  key.resize(ps.n_owned);
   for (std::size_t i = 0; i < ps.n_owned; ++i) key[i] = g.index(ps.x[i]);
-  std::vector<std::size_t> order(ps.n_owned);
+  order.resize(ps.n_owned);
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     return key[a] != key[b] ? key[a] < key[b] : ps.gid[a] < ps.gid[b];

@@ -3,7 +3,7 @@
 // what a term is: term_interface.hpp). For the terms a case switches on it
 //   0. packs one record per particle with the fields those terms declare
 //      (and only those), computing prepared fields such as P/rho^2 or
-//      anti-clump's R_a once per particle, 64-byte aligned;
+//      anti-clump's R_a once per particle, back to back;
 //   per owned resin particle i, per chunk of up to kChunk neighbours:
 //   1. gathers the declared lanes of each neighbour j into short
 //      contiguous arrays (x_ij, v_ij, the neighbour's scalars);
@@ -207,15 +207,17 @@ struct Needs<D, TermList<S...>> {
                                          typename OwnReadsOf<typename S::Term>::type...>::type;
   using Lanes = Layout<D, LaneFields>;
   using Record = Layout<D, RecordFields>;
-  // Whole cache lines per record: a neighbour costs the fewest lines.
-  static constexpr std::size_t kStride = (Record::kSize + 7) / 8 * 8;
+  // No padding to whole cache lines: 88 bytes per particle on the channel
+  // instead of 128 (docs/performance.md, "Memory per particle").
+  static constexpr std::size_t kStride = Record::kSize;
 };
 
 // ---- The loop ---------------------------------------------------------------
 
-// One particle's record: whole cache lines, so a neighbour costs the fewest.
+// One particle's record, its fields back to back (unpadded: the records are
+// the largest per-particle array after the fields).
 template <std::size_t kStride>
-struct alignas(64) PackedRecord {
+struct PackedRecord {
   double v[kStride];
 };
 
@@ -298,7 +300,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   // 0. The records (every particle, ghosts included).
   thread_local std::vector<PackedRecord<kStride>> records;
   const std::size_t n = ps.size();
-  records.resize(n);
+  resize_field(records, n);  // a small margin, not a doubling
   PackedRecord<kStride>* rec = records.data();
   for (std::size_t i = 0; i < n; ++i)
     FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);

@@ -82,7 +82,7 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
   using Lanes = Layout<D, LaneFields>;
   using Record = Layout<D, RecordFields>;
   using View = PairView<D, Lanes, Record, typename P::Reads, Fields<>>;
-  constexpr std::size_t kStride = (Record::kSize + 7) / 8 * 8;
+  constexpr std::size_t kStride = Record::kSize;  // unpadded, as the pair loop's
   constexpr std::size_t kSums = P::template kSums<D>;
 
   const WendlandC2<D> kernel(sp.h);
@@ -91,7 +91,7 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
 
   thread_local std::vector<PackedRecord<kStride>> records;
   const std::size_t n = ps.size();
-  records.resize(n);
+  resize_field(records, n);  // a small margin, not a doubling
   PackedRecord<kStride>* rec = records.data();
   for (std::size_t i = 0; i < n; ++i)
     FillRecord<D, RecordFields>::template run<Record>(sp, ps, i, rec[i].v);

@@ -21,7 +21,9 @@
 //   output_as(n, u)  can be written to snapshots as dataset n, unit u
 //   kLocal           none of these: scratch of the rank that owns it
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstdint>
+#include <stdexcept>
 #include <type_traits>
 #include <vector>
 
@@ -104,16 +106,53 @@ std::size_t record_bytes(const P& ps, Want want) {
 }
 
 // Reorders the first order.size() particles of any registry container
-// (SPH or DEM): new slot k holds old particle order[k].
+// (SPH or DEM): new slot k holds old particle order[k]. `order` is either
+// increasing (the particles that stay at a migration) or a permutation of
+// 0 .. order.size()-1 (the sort by cell); anything else is a logic error.
+// In place, so the fields keep their memory across rebuilds (no fresh
+// vectors, no page faults; docs/performance.md, "Rebuilds"): an increasing
+// list is compacted forward, a permutation is followed cycle by cycle.
 template <class P>
 void permute_owned_fields(P& ps, const std::vector<std::size_t>& order) {
+  const std::size_t m = order.size();
+  const bool increasing = std::is_sorted(order.begin(), order.end());
+  thread_local std::vector<bool> done;
+  if (!increasing) {
+    done.assign(m, false);
+    for (const std::size_t j : order) {
+      if (j >= m || done[j]) throw std::logic_error("sphdem: permute_owned: not a permutation");
+      done[j] = true;
+    }
+  }
   ps.for_each_field([&](const char*, auto& field, FieldPolicy) {
-    using Field = std::decay_t<decltype(field)>;
-    Field tmp(field.size());
-    for (std::size_t k = 0; k < order.size(); ++k) tmp[k] = field[order[k]];
-    for (std::size_t k = order.size(); k < field.size(); ++k) tmp[k] = field[k];
-    field.swap(tmp);
+    if (increasing) {
+      // order[k] >= k: slot order[k] is read before anything overwrites it.
+      for (std::size_t k = 0; k < m; ++k) field[k] = field[order[k]];
+      return;
+    }
+    done.assign(m, false);
+    for (std::size_t s = 0; s < m; ++s) {
+      if (done[s]) continue;
+      const auto first = field[s];
+      std::size_t k = s;
+      for (std::size_t j = order[k]; j != s; k = j, j = order[k]) {
+        field[k] = field[j];
+        done[k] = true;
+      }
+      field[k] = first;
+      done[k] = true;
+    }
   });
+}
+
+// Grows a field by a small margin instead of doubling (std::vector's
+// growth): the particle containers grow one particle at a time at set-up
+// and by the ghosts at every rebuild, and a doubled capacity is memory the
+// run never uses (docs/performance.md, "Memory per particle").
+template <class V>
+void resize_field(V& field, std::size_t n) {
+  if (n > field.capacity()) field.reserve(n + n / 16 + 64);
+  field.resize(n);
 }
 
 }  // namespace sphdem
@@ -126,30 +165,32 @@ void permute_owned_fields(P& ps, const std::vector<std::size_t>& order) {
 // The members of the list and the registry functions over them:
 // for_each_field (const and not), resize, copy_particle (every field of
 // slot src onto slot dst) and zero_particle (every field of slot i zero).
-#define SPHDEM_FIELD_REGISTRY(LIST)                                                            \
-  LIST(SPHDEM_FIELD_MEMBER)                                                                    \
-  template <class Self, class F>                                                               \
-  static void visit_fields(Self& self, F& f) {                                                 \
-    LIST(SPHDEM_FIELD_VISIT)                                                                   \
-  }                                                                                            \
-  template <class F>                                                                           \
-  void for_each_field(F&& f) {                                                                 \
-    visit_fields(*this, f);                                                                    \
-  }                                                                                            \
-  template <class F>                                                                           \
-  void for_each_field(F&& f) const {                                                           \
-    visit_fields(*this, f);                                                                    \
-  }                                                                                            \
-  void resize(std::size_t n) {                                                                 \
-    for_each_field([n](const char*, auto& field, ::sphdem::FieldPolicy) { field.resize(n); }); \
-  }                                                                                            \
-  void copy_particle(std::size_t dst, std::size_t src) {                                       \
-    for_each_field(                                                                            \
-        [=](const char*, auto& field, ::sphdem::FieldPolicy) { field[dst] = field[src]; });    \
-  }                                                                                            \
-  void zero_particle(std::size_t i) {                                                          \
-    for_each_field([i](const char*, auto& field, ::sphdem::FieldPolicy) {                      \
-      using T = typename std::decay_t<decltype(field)>::value_type;                            \
-      field[i] = ::sphdem::zero_value<T>();                                                    \
-    });                                                                                        \
+#define SPHDEM_FIELD_REGISTRY(LIST)                                                         \
+  LIST(SPHDEM_FIELD_MEMBER)                                                                 \
+  template <class Self, class F>                                                            \
+  static void visit_fields(Self& self, F& f) {                                              \
+    LIST(SPHDEM_FIELD_VISIT)                                                                \
+  }                                                                                         \
+  template <class F>                                                                        \
+  void for_each_field(F&& f) {                                                              \
+    visit_fields(*this, f);                                                                 \
+  }                                                                                         \
+  template <class F>                                                                        \
+  void for_each_field(F&& f) const {                                                        \
+    visit_fields(*this, f);                                                                 \
+  }                                                                                         \
+  void resize(std::size_t n) {                                                              \
+    for_each_field([n](const char*, auto& field, ::sphdem::FieldPolicy) {                   \
+      ::sphdem::resize_field(field, n);                                                     \
+    });                                                                                     \
+  }                                                                                         \
+  void copy_particle(std::size_t dst, std::size_t src) {                                    \
+    for_each_field(                                                                         \
+        [=](const char*, auto& field, ::sphdem::FieldPolicy) { field[dst] = field[src]; }); \
+  }                                                                                         \
+  void zero_particle(std::size_t i) {                                                       \
+    for_each_field([i](const char*, auto& field, ::sphdem::FieldPolicy) {                   \
+      using T = typename std::decay_t<decltype(field)>::value_type;                         \
+      field[i] = ::sphdem::zero_value<T>();                                                 \
+    });                                                                                     \
   }

@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+"""tools/bench_vs_lammps.sh (issue 19, docs/performance.md "Against the
+peer, side by side") without the real codes: no timings are taken here.
+
+  - --help exits 0 and names the options; a bad option or value exits 2;
+  - --dry-run --build-peer with no LAMMPS prints the Debian source build
+    (apt-get source lammps with a private apt directory, the cmake build
+    with the SPH package) and the hyperfine rounds, and runs nothing;
+  - a full run with stand-ins for bench_sph and lmp (shell scripts that log
+    their arguments) alternates sphdem, LAMMPS continuity, LAMMPS summation
+    in every round, passes --set on to sphdem, and prints one table row per
+    case and rank count with a median and range per ratio.
+
+usage: check_bench_vs_lammps.py SOURCE_DIR WORK_DIR
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+if len(sys.argv) != 3 or sys.argv[1] in ("-h", "--help"):
+    print(__doc__)
+    sys.exit(0 if len(sys.argv) == 2 else 2)
+src, work = sys.argv[1:3]
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+script = os.path.join(src, "tools", "bench_vs_lammps.sh")
+failures = []
+
+
+def expect(cond, what):
+    print(("ok   " if cond else "FAIL ") + what, flush=True)
+    if not cond:
+        failures.append(what)
+
+
+def run(*args, env=None):
+    e = dict(os.environ)
+    e.pop("LMP", None)
+    e["PATH"] = "/usr/bin:/bin"  # no lmp on PATH
+    e.update(env or {})
+    return subprocess.run(["bash", script, *args], capture_output=True, text=True, env=e)
+
+
+r = run("--help")
+expect(r.returncode == 0 and all(o in r.stdout for o in
+       ("--cases", "--ranks", "--rounds", "--build-peer", "--dry-run", "--lmp")),
+       "--help exits 0 and names the options")
+r = run("--frobnicate")
+expect(r.returncode == 2 and "--frobnicate" in r.stderr, "an unknown option exits 2 naming it")
+r = run("--rounds", "0")
+expect(r.returncode == 2 and "--rounds" in r.stderr, "--rounds 0 exits 2 naming the option")
+r = run("--ranks", "two")
+expect(r.returncode == 2 and "--ranks" in r.stderr, "--ranks two exits 2 naming the option")
+
+peer_dir = os.path.join(src, "build", "peers", "lammps")
+had_peer_dir = os.path.exists(peer_dir)
+r = run("--dry-run", "--build-peer", "--cases", "21k 99k", "--ranks", "1 2", "--rounds", "2",
+        "--out", os.path.join(work, "dry"), "--lmp", os.path.join(work, "no-such-lmp"))
+out = r.stdout.replace("\\ ", " ")  # printf %q escapes the spaces
+expect(r.returncode == 0, "--dry-run --build-peer exits 0")
+expect("source lammps" in out and "trixie" in out, "the dry run shows apt-get source lammps (trixie)")
+expect("PKG_SPH=yes" in out and "PKG_BPM=yes" in out, "the dry run shows the peer build with SPH, BPM")
+expect(out.count("+ hyperfine") == 2 * 2 * 2, "two rounds per case and rank count")
+expect("--nx 720 --ny 132" in out and "nx 720 -var ny 132" in out, "the 99k channel for both codes")
+expect("-n 2" in out, "the 2-rank runs")
+expect(not os.path.exists(os.path.join(work, "dry")), "the dry run creates nothing")
+expect(had_peer_dir or not os.path.exists(peer_dir), "the dry run builds nothing")
+
+# Stand-ins: they log their arguments, lmp answers -h with its packages.
+log = os.path.join(work, "calls.log")
+fake_bench = os.path.join(work, "bench_sph")
+fake_lmp = os.path.join(work, "lmp")
+with open(fake_bench, "w") as f:
+    f.write(f'#!/bin/sh\necho "sphdem $*" >> {log}\n')
+with open(fake_lmp, "w") as f:
+    f.write(f'#!/bin/sh\nif [ "$1" = -h ]; then printf "Installed packages:\\n\\nBPM GRANULAR SPH\\n"; '
+            f'exit 0; fi\necho "lammps $*" >> {log}\n')
+os.chmod(fake_bench, 0o755)
+os.chmod(fake_lmp, 0o755)
+r = run("--cases", "21k", "--ranks", "1", "--rounds", "2", "--steps", "10", "--bench", fake_bench,
+        "--set", "numerics.delta_sph=0.1", "--out", os.path.join(work, "real"),
+        env={"LMP": fake_lmp, "PATH": "/usr/bin:/bin"})
+print(r.stdout, r.stderr)
+expect(r.returncode == 0, "a run with stand-ins exits 0")
+calls = open(log).read().splitlines() if os.path.exists(log) else []
+order = ["sphdem" if c.startswith("sphdem") else ("cont" if "dens cont" in c else "sum") for c in calls]
+expect(order == ["sphdem", "cont", "sum"] * 2, f"alternating rounds: {order}")
+expect(all("--set numerics.delta_sph=0.1" in c for c in calls if c.startswith("sphdem")),
+       "--set reaches sphdem")
+expect(all("-var nsteps 10" in c for c in calls if c.startswith("lammps")), "--steps reaches the peer")
+row = re.search(r"^\| 21k \| 1 \| 2 \|( [0-9.]+ \([0-9.]+-[0-9.]+\) \|){3}$", r.stdout, re.M)
+expect(row is not None, "one table row: median (min-max) of three ratios")
+
+if failures:
+    print(f"{len(failures)} failure(s)")
+    sys.exit(1)
+print("all passed")

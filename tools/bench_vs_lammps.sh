@@ -1,0 +1,185 @@
+#!/usr/bin/env bash
+# sphdem against its LAMMPS peer on the 2D channel (issue 19,
+# docs/performance.md "Against the peer, side by side"): the two codes
+# alternate in every round (hyperfine, one run of each command per round),
+# so both see the same machine load, and the ratio of each round is what
+# counts. Builds the peer from Debian's source package when it is missing.
+set -euo pipefail
+
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+DECK="$ROOT/bench/peers/lammps/in.sph_poiseuille_2d"
+PEER_DIR="$ROOT/build/peers/lammps"
+BENCH="$ROOT/build/release/bench/bench_sph"
+LMP="${LMP:-}"
+CASES="21k 99k"
+RANKS="1 2"
+ROUNDS=5
+STEPS=2000
+OUT="$ROOT/out/bench_vs_lammps"
+DRY=0
+BUILD_PEER=0
+SETS=()
+
+usage() {
+  cat <<EOF
+usage: tools/bench_vs_lammps.sh [options]
+
+Runs sphdem's channel benchmark (bench/bench_sph.cpp) and the LAMMPS deck
+bench/peers/lammps/in.sph_poiseuille_2d (density by continuity and by
+summation) alternating, one run of each per round, with hyperfine, and
+prints per case and rank count the median and range over the rounds of
+  sphdem wall time / LAMMPS wall time
+for each peer density mode and for the faster of the two (whole process).
+Quote only ratios measured this way: a figure divided by another day's
+peer number is not comparable (bench/peers/lammps/README.md).
+
+options:
+  --cases "21k 99k"    channels: 21k = 320 x 60 (21,120 particles with walls),
+                       99k = 720 x 132 (99,360)                [$CASES]
+  --ranks "1 2"        MPI rank counts                          [$RANKS]
+  --rounds N           alternating rounds per case and rank count [$ROUNDS]
+  --steps N            steps of both codes                      [$STEPS]
+  --set KEY=VALUE      a case-file override for sphdem (repeatable), e.g.
+                       --set numerics.delta_sph=0.1 (the shipped cases' options)
+  --bench PATH         sphdem's bench_sph           [build/release/bench/bench_sph]
+  --lmp PATH           the LAMMPS executable (also \$LMP; else lmp on PATH,
+                       else build/peers/lammps/build/lmp)
+  --build-peer         if no LAMMPS with the SPH package is found, build one
+                       from Debian 13's source package (upstream 4 Feb 2025;
+                       Debian 12's binary package has no SPH/BPM): apt-get
+                       source with a private apt directory (the system's
+                       sources are not touched), then a Release MPI build with
+                       SPH, GRANULAR, BPM, MOLECULE (about 10 min on 2 cores).
+                       Needs dpkg-dev: scripts/install-deps.sh --peer
+  --out DIR            hyperfine's JSON per round              [out/bench_vs_lammps]
+  --dry-run            print what would run (the peer build too), run nothing
+  -h, --help           this help
+
+Run it on a quiet machine: hyperfine's wall times are the measure.
+EOF
+}
+
+while (($#)); do
+  case "$1" in
+    --cases) CASES="$2"; shift 2 ;;
+    --ranks) RANKS="$2"; shift 2 ;;
+    --rounds) ROUNDS="$2"; shift 2 ;;
+    --steps) STEPS="$2"; shift 2 ;;
+    --set) SETS+=("$2"); shift 2 ;;
+    --bench) BENCH="$2"; shift 2 ;;
+    --lmp) LMP="$2"; shift 2 ;;
+    --build-peer) BUILD_PEER=1; shift ;;
+    --out) OUT="$2"; shift 2 ;;
+    --dry-run) DRY=1; shift ;;
+    -h | --help) usage; exit 0 ;;
+    *) echo "bench_vs_lammps: unknown option '$1' (see --help)" >&2; exit 2 ;;
+  esac
+done
+[[ "$ROUNDS" =~ ^[1-9][0-9]*$ ]] || { echo "bench_vs_lammps: --rounds must be a positive integer, not '$ROUNDS'" >&2; exit 2; }
+[[ "$STEPS" =~ ^[1-9][0-9]*$ ]] || { echo "bench_vs_lammps: --steps must be a positive integer, not '$STEPS'" >&2; exit 2; }
+for r in $RANKS; do
+  [[ "$r" =~ ^[1-9][0-9]*$ ]] || { echo "bench_vs_lammps: --ranks takes positive integers, not '$r'" >&2; exit 2; }
+done
+
+run() {  # prints the command; runs it unless --dry-run
+  printf '+'
+  printf ' %q' "$@"
+  echo
+  ((DRY)) || "$@"
+}
+run_in() {  # run, in directory $1
+  local dir="$1"
+  shift
+  echo "+ (cd $dir && $*)"
+  ((DRY)) || (cd "$dir" && "$@")
+}
+
+# A LAMMPS executable with the SPH package, or nothing.
+has_sph() { [[ -x "$1" ]] && "$1" -h 2>/dev/null | grep -qw SPH; }
+find_peer() {
+  local c
+  for c in "$LMP" "$(command -v lmp 2>/dev/null || true)" "$PEER_DIR/build/lmp"; do
+    [[ -n "$c" ]] && has_sph "$c" && { echo "$c"; return 0; }
+  done
+  return 1
+}
+
+build_peer() {
+  local apt="$PEER_DIR/apt"
+  local opts=(-o "Dir::Etc::SourceList=$apt/sources.list" -o "Dir::Etc::SourceParts=/nonexistent"
+              -o "Dir::State::Lists=$apt/lists" -o "Dir::Cache=$apt/cache" -o "Debug::NoLocking=1")
+  run mkdir -p "$apt/lists/partial" "$apt/cache/archives/partial"
+  echo "+ write $apt/sources.list (Debian 13 'trixie' deb-src)"
+  ((DRY)) || echo "deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian trixie main" >"$apt/sources.list"
+  run apt-get "${opts[@]}" update
+  run_in "$PEER_DIR" apt-get "${opts[@]}" source lammps
+  local src
+  src=$( ( ls -d "$PEER_DIR"/lammps-*/ 2>/dev/null || true ) | head -1)
+  ((DRY)) && src="$PEER_DIR/lammps-<version>/"
+  [[ -n "$src" ]] || { echo "bench_vs_lammps: apt-get source lammps left no lammps-*/ in $PEER_DIR" >&2; exit 1; }
+  case "$src" in *20250204*|*"<version>"*) ;; *) echo "bench_vs_lammps: warning: $src is not upstream 20250204, the version of the published comparisons" >&2 ;; esac
+  run cmake -S "${src}cmake" -B "$PEER_DIR/build" -D CMAKE_BUILD_TYPE=Release -D BUILD_MPI=yes \
+    -D BUILD_OMP=no -D PKG_SPH=yes -D PKG_GRANULAR=yes -D PKG_BPM=yes -D PKG_MOLECULE=yes
+  run cmake --build "$PEER_DIR/build" -j2
+}
+
+if ! peer=$(find_peer); then
+  if ((BUILD_PEER)); then
+    build_peer
+    peer="$PEER_DIR/build/lmp"
+    ((DRY)) || has_sph "$peer" || { echo "bench_vs_lammps: the peer build gave no lmp with SPH at $peer" >&2; exit 1; }
+  elif ((DRY)); then
+    peer="lmp"
+    echo "# no LAMMPS with the SPH package found (--lmp, \$LMP, lmp on PATH, $PEER_DIR/build/lmp);"
+    echo "# a real run needs one: add --build-peer"
+  else
+    echo "bench_vs_lammps: no LAMMPS with the SPH package (tried --lmp, \$LMP, lmp on PATH," \
+      "$PEER_DIR/build/lmp); add --build-peer to build it from Debian's source package" >&2
+    exit 1
+  fi
+fi
+if ! ((DRY)); then
+  [[ -x "$BENCH" ]] || { echo "bench_vs_lammps: no $BENCH (cmake --preset release && cmake --build build/release --target bench_sph)" >&2; exit 1; }
+  command -v hyperfine >/dev/null || { echo "bench_vs_lammps: hyperfine is missing (scripts/install-deps.sh --peer)" >&2; exit 1; }
+fi
+
+sets=""
+for s in "${SETS[@]}"; do sets+=" --set $s"; done
+mpi="mpirun --oversubscribe"
+[[ $(id -u) -eq 0 ]] && mpi+=" --allow-run-as-root"
+
+run mkdir -p "$OUT"
+for c in $CASES; do
+  case "$c" in
+    21k) nx=320; ny=60 ;;
+    99k) nx=720; ny=132 ;;
+    *) echo "bench_vs_lammps: unknown case '$c' (21k or 99k)" >&2; exit 2 ;;
+  esac
+  for r in $RANKS; do
+    ours="$mpi -n $r $BENCH --nx $nx --ny $ny --steps $STEPS$sets"
+    lmp_cmd="$mpi -n $r $peer -in $DECK -var nx $nx -var ny $ny -var nsteps $STEPS -log none -screen none"
+    for k in $(seq "$ROUNDS"); do
+      run hyperfine --runs 1 --style basic --export-json "$OUT/${c}_np${r}_round$k.json" \
+        -n sphdem "$ours" -n lammps_cont "$lmp_cmd -var dens cont" -n lammps_sum "$lmp_cmd -var dens sum"
+    done
+  done
+done
+((DRY)) && exit 0
+
+# Per round: sphdem / each peer mode and / the faster peer mode; median and range.
+python3 - "$OUT" "$CASES" "$RANKS" "$ROUNDS" <<'EOF'
+import json, statistics, sys
+out, cases, ranks, rounds = sys.argv[1], sys.argv[2].split(), sys.argv[3].split(), int(sys.argv[4])
+print("| case | ranks | rounds | sphdem / LAMMPS continuity | sphdem / LAMMPS summation | sphdem / faster peer |")
+print("| --- | --- | --- | --- | --- | --- |")
+for c in cases:
+    for r in ranks:
+        cols = {"cont": [], "sum": [], "best": []}
+        for k in range(1, rounds + 1):
+            t = {x["command"]: x["mean"] for x in json.load(open(f"{out}/{c}_np{r}_round{k}.json"))["results"]}
+            cols["cont"].append(t["sphdem"] / t["lammps_cont"])
+            cols["sum"].append(t["sphdem"] / t["lammps_sum"])
+            cols["best"].append(t["sphdem"] / min(t["lammps_cont"], t["lammps_sum"]))
+        cell = lambda v: f"{statistics.median(v):.2f} ({min(v):.2f}-{max(v):.2f})"
+        print(f"| {c} | {r} | {rounds} | {cell(cols['cont'])} | {cell(cols['sum'])} | {cell(cols['best'])} |")
+EOF
