@@ -67,9 +67,8 @@ DemSystem<D> glass_fiber(int n, double phi, Bonds bonds) {
 
 template <int D>
 double outer_dt(const DemSystem<D>& sys) {
-  return sys.params.subcycle_bonds
-             ? std::max(sys.params.bond_dt, stable_dem_contact_dt(sys.params, sys.particles))
-             : sys.stable_dt();
+  return sys.params.subcycle_bonds ? stable_dem_outer_dt(sys.params, sys.particles)
+                                   : sys.stable_dt();
 }
 
 struct FiberResult {

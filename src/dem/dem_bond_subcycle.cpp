@@ -4,6 +4,7 @@
 // Chem. Phys. 97, 1990). Same gather formulation as dem_forces.cpp: each
 // owned particle adds its pairs' results in increasing partner gid, so the
 // sums are the same on any number of ranks.
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -206,6 +207,12 @@ double stable_dem_contact_dt(const DemParams<D>& p, const DemParticles<D>& ps) {
   return p.dt_safety * dt;
 }
 
+template <int D>
+double stable_dem_outer_dt(const DemParams<D>& p, const DemParticles<D>& ps) {
+  const double contact = stable_dem_contact_dt(p, ps);
+  return std::max(p.bond_dt, p.implicit_bonds ? contact / kImplicitStepsPerContactStep : contact);
+}
+
 #define SPHDEM_DEM_INSTANTIATE(D)                                                                 \
   template void compute_dem_bond_forces<D>(const DemParams<D>&, double, DemParticles<D>&,         \
                                            DemWorkspace<D>&);                                     \
@@ -214,6 +221,7 @@ double stable_dem_contact_dt(const DemParams<D>& p, const DemParticles<D>& ps) {
                                            DemWorkspace<D>&);                                     \
   template void dem_drift<D>(double, std::vector<DemWall<D>>&, DemParticles<D>&);                 \
   template double stable_dem_contact_dt<D>(const DemParams<D>&, const DemParticles<D>&);          \
+  template double stable_dem_outer_dt<D>(const DemParams<D>&, const DemParticles<D>&);            \
   template void dem_subcycled_step<D>(                                                            \
       const DemParams<D>&, double, std::int64_t, std::vector<DemWall<D>>&, DemParticles<D>&,      \
       DemWorkspace<D>&, const std::function<void()>&, const std::function<void()>&);              \

@@ -90,7 +90,7 @@ FiberModule<D>::FiberModule(const RunContext<D>& ctx, const FiberHost<D>* host) 
   dem_dt_ = bond_dt_ = all.stable_dt();
   if (all.params.subcycle_bonds) {  // bonds in inner steps, the step is the contacts'
     all.params.bond_dt = dem_dt_;
-    dem_dt_ = std::max(dem_dt_, stable_dem_contact_dt(all.params, all.particles));
+    dem_dt_ = stable_dem_outer_dt(all.params, all.particles);
   }
   if (host_) {
     health_box_ = host_->domain;

@@ -251,6 +251,14 @@ std::int64_t dem_bond_substeps(const DemParams<D>& p, double dt);
 template <int D>
 double stable_dem_contact_dt(const DemParams<D>& p, const DemParticles<D>& ps);
 
+// The outer step with the bonds kept apart (sub-cycled or implicit), at
+// least bond_dt: the contacts' stable step; implicit bonds take
+// kImplicitStepsPerContactStep steps in it, to follow the start of a
+// fiber's bending vibration (docs/dem.md, "Implicit bonds").
+inline constexpr int kImplicitStepsPerContactStep = 2;
+template <int D>
+double stable_dem_outer_dt(const DemParams<D>& p, const DemParticles<D>& ps);
+
 // dt_safety * min over particles of sqrt(m / k_trans) and sqrt(I / k_rot),
 // k summed over the particle's bonds plus one contact (docs/dem.md).
 template <int D>
