@@ -2,8 +2,8 @@
 // (chains) of the owned particles and one banded linear solve per chain per
 // step for the trapezoidal rule's drift velocity (Newmark 1959, J. Eng.
 // Mech. Div. ASCE 85, 67: the average-acceleration method).
-#include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <tuple>
 
@@ -80,45 +80,57 @@ class BandSpd {
 // incremental law (terms/parallel_bond.hpp): the change of length (kbar_n
 // A), the contact points' slip in the bond's plane (kbar_s A; arms a_i, a_j
 // to the contact point), in 3D the twist (kbar_s J), and the relative
-// rotation across the axis (kbar_n I).
+// rotation across the axis (kbar_n I). Plain loops: small, and the same
+// operations in the same order wherever it runs.
 template <int D>
-Eigen::Matrix<double, 2 * kDof<D>, 2 * kDof<D>> bond_stiffness(const terms::BondLaw& law,
-                                                               const Vec<D>& n, double a_i,
-                                                               double a_j) {
-  constexpr int q = kDof<D>;
+struct BondStiffness {
+  static constexpr int kN = 2 * kDof<D>;
+  static constexpr int kRows = D == 2 ? 3 : 8;
+  std::array<std::array<double, kN>, kN> k{};
+};
+
+template <int D>
+BondStiffness<D> bond_stiffness(const terms::BondLaw& law, const Vec<D>& n, double a_i,
+                                double a_j) {
+  constexpr int rows = BondStiffness<D>::kRows, cols = BondStiffness<D>::kN;
+  std::array<std::array<double, cols>, rows> B{};
+  std::array<double, rows> w{};
   if constexpr (D == 2) {
-    Eigen::Matrix<double, 3, 2 * q> B = Eigen::Matrix<double, 3, 2 * q>::Zero();
-    const Vec<D> t(-n[1], n[0]);
-    B.template block<1, 2>(0, 0) = -n.transpose();
-    B.template block<1, 2>(0, 3) = n.transpose();
-    B.template block<1, 2>(1, 0) = -t.transpose();
-    B(1, 2) = -a_i;
-    B.template block<1, 2>(1, 3) = t.transpose();
-    B(1, 5) = -a_j;
-    B(2, 2) = -1;
-    B(2, 5) = 1;
-    const Eigen::Vector3d w(law.kn * law.s.area, law.ks * law.s.area, law.kn * law.s.inertia);
-    return B.transpose() * w.asDiagonal() * B;
+    const double t0 = -n[1], t1 = n[0];
+    B[0] = {-n[0], -n[1], 0, n[0], n[1], 0};  // change of length
+    B[1] = {-t0, -t1, -a_i, t0, t1, -a_j};    // slip across the axis
+    B[2] = {0, 0, -1, 0, 0, 1};               // relative rotation
+    w = {law.kn * law.s.area, law.ks * law.s.area, law.kn * law.s.inertia};
   } else {
-    Eigen::Matrix<double, 8, 2 * q> B = Eigen::Matrix<double, 8, 2 * q>::Zero();
-    const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - n * n.transpose();
-    Eigen::Matrix3d N;  // N v = n x v
-    N << 0, -n[2], n[1], n[2], 0, -n[0], -n[1], n[0], 0;
-    B.template block<1, 3>(0, 0) = -n.transpose();
-    B.template block<1, 3>(0, 6) = n.transpose();
-    B.template block<3, 3>(1, 0) = -P;
-    B.template block<3, 3>(1, 3) = a_i * N;
-    B.template block<3, 3>(1, 6) = P;
-    B.template block<3, 3>(1, 9) = a_j * N;
-    B.template block<1, 3>(4, 3) = -n.transpose();
-    B.template block<1, 3>(4, 9) = n.transpose();
-    B.template block<3, 3>(5, 3) = -P;
-    B.template block<3, 3>(5, 9) = P;
-    Eigen::Matrix<double, 8, 1> w;
+    // P = I - n n^T (the bond's plane), N v = n x v.
+    double P[3][3], N[3][3] = {{0, -n[2], n[1]}, {n[2], 0, -n[0]}, {-n[1], n[0], 0}};
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) P[r][c] = (r == c ? 1.0 : 0.0) - n[r] * n[c];
+    for (int c = 0; c < 3; ++c) {
+      B[0][c] = -n[c];  // change of length
+      B[0][6 + c] = n[c];
+      B[4][3 + c] = -n[c];  // twist
+      B[4][9 + c] = n[c];
+      for (int r = 0; r < 3; ++r) {
+        B[1 + r][c] = -P[r][c];  // slip in the plane
+        B[1 + r][3 + c] = a_i * N[r][c];
+        B[1 + r][6 + c] = P[r][c];
+        B[1 + r][9 + c] = a_j * N[r][c];
+        B[5 + r][3 + c] = -P[r][c];  // rotation across the axis
+        B[5 + r][9 + c] = P[r][c];
+      }
+    }
     const double ka = law.ks * law.s.area, kb = law.kn * law.s.inertia;
-    w << law.kn * law.s.area, ka, ka, ka, law.ks * law.s.polar, kb, kb, kb;
-    return B.transpose() * w.asDiagonal() * B;
+    w = {law.kn * law.s.area, ka, ka, ka, law.ks * law.s.polar, kb, kb, kb};
   }
+  BondStiffness<D> out;
+  for (int r = 0; r < rows; ++r)
+    for (int a = 0; a < cols; ++a) {
+      if (B[r][a] == 0) continue;
+      const double wb = w[r] * B[r][a];
+      for (int c = 0; c < cols; ++c) out.k[a][c] += wb * B[r][c];
+    }
+  return out;
 }
 
 }  // namespace
@@ -264,7 +276,7 @@ void solve_bond_chains(const DemParams<D>& p, double dt, DemParticles<D>& ps, De
         const int gr = (r < q ? cb.a : cb.b) * q + r % q;
         for (int s = 0; s < 2 * q; ++s) {
           const int gs = (s < q ? cb.a : cb.b) * q + s % q;
-          if (gr >= gs) a.at(gr, gs) += c * k_local(r, s);
+          if (gr >= gs) a.at(gr, gs) += c * k_local.k[r][s];
         }
       }
     }
