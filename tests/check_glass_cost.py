@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""`sphdem check` on glass fibers (docs/dem.md, "Bond sub-cycling"): explicit
-glass bonds get a warning naming fibers.youngs_modulus, a case whose DEM
-alone would take more than a day is refused (exit 2) naming it, and the
-sub-cycled glass plate passes without the warning.
+"""`sphdem check` on glass fibers (docs/dem.md, "Bond sub-cycling", "Implicit
+bonds"): explicit glass bonds get a warning naming fibers.youngs_modulus, a
+case whose DEM alone would take more than a day is refused (exit 2) naming
+it, and the glass plate (implicit bonds) and its sub-cycled variant pass
+without the warning.
 
 usage: check_glass_cost.py SPHDEM SOURCE_DIR"""
 import subprocess
@@ -33,6 +34,9 @@ def expect(cond, what, out=""):
 
 
 code, out, err = run()
+expect(code == 0 and "fiber bonds (implicit)" in out and "warning: fibers.youngs_modulus" not in out,
+       "the implicit glass plate passes without the stiffness warning", out + err)
+code, out, err = run("fibers.bond_integration=subcycled")
 expect(code == 0 and "fiber bonds (subcycled)" in out and "warning: fibers.youngs_modulus" not in out,
        "the sub-cycled glass plate passes without the stiffness warning", out + err)
 code, out, err = run("fibers.bond_integration=explicit")

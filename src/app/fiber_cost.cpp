@@ -25,7 +25,10 @@ FiberCost fiber_cost(const Case& c, double resin_dt, double outer_dt, double bon
                      std::int64_t dem_particles) {
   FiberCost k;
   k.outer_substeps = std::ceil(resin_dt / outer_dt);
-  k.bond_substeps = k.outer_substeps * std::ceil(resin_dt / k.outer_substeps / bond_dt);
+  // Implicit bonds: one solve and bond update per outer step.
+  k.bond_substeps = c.fibers->implicit_bonds
+                        ? k.outer_substeps
+                        : k.outer_substeps * std::ceil(resin_dt / k.outer_substeps / bond_dt);
   const double resin_steps = std::ceil(c.numerics.end_time / resin_dt);
   k.dem_seconds = static_cast<double>(dem_particles) * resin_steps * k.bond_substeps /
                   kDemParticleStepsPerSecond;
@@ -37,8 +40,10 @@ void check_fiber_cost(const Case& c, const FiberCost& k, std::ostream& out) {
   out << fmt::format(
       "  fiber bonds ({}): {:.0f} bond sub-steps per SPH step ({:.0f} contact/drag sub-steps); "
       "DEM alone about {:.0f} s on one core\n",
-      f.subcycle_bonds ? "subcycled" : "explicit", k.bond_substeps, k.outer_substeps,
-      k.dem_seconds);
+      f.implicit_bonds   ? "implicit"
+      : f.subcycle_bonds ? "subcycled"
+                         : "explicit",
+      k.bond_substeps, k.outer_substeps, k.dem_seconds);
   if (k.dem_seconds > kDay) {
     throw input_error_at(
         c, "fibers.youngs_modulus",
@@ -50,8 +55,8 @@ void check_fiber_cost(const Case& c, const FiberCost& k, std::ostream& out) {
   if (!f.subcycle_bonds && k.bond_substeps > kExplicitWarnSubsteps) {
     out << fmt::format(
         "  warning: fibers.youngs_modulus = {:.3g} Pa takes {:.0f} explicit DEM sub-steps per SPH "
-        "step; fibers.bond_integration: subcycled evaluates contacts and drag at their own "
-        "step (docs/dem.md, \"Bond sub-cycling\")\n",
+        "step; fibers.bond_integration: implicit solves each fiber's bonds once per contact "
+        "step (docs/dem.md, \"Implicit bonds\")\n",
         f.youngs_modulus, k.bond_substeps);
   }
 }

@@ -104,14 +104,20 @@ Key<F> bond_integration() {
            "enum",
            "",
            "explicit",
-           "explicit or subcycled",
+           "explicit, subcycled or implicit",
            "explicit: every DEM force at the stable step of the bonds; subcycled: the bonds in "
            "inner steps of that size, contacts, walls and drag at the contacts' stable step "
-           "(glass fibers at an affordable cost, `docs/dem.md` \"Bond sub-cycling\")"};
+           "(glass fibers at an affordable cost, `docs/dem.md` \"Bond sub-cycling\"); implicit: "
+           "contacts, walls and drag as subcycled, each fiber's bonds in one linear solve per "
+           "step (`docs/dem.md` \"Implicit bonds\")"};
   k.read = [](const Value& v, F& f, Context&) {
-    f.subcycle_bonds = one_of(v, {"explicit", "subcycled"}) == "subcycled";
+    const std::string mode = one_of(v, {"explicit", "subcycled", "implicit"});
+    f.subcycle_bonds = mode != "explicit";
+    f.implicit_bonds = mode == "implicit";
   };
-  k.show = [](const F& f) { return f.subcycle_bonds ? "subcycled" : "explicit"; };
+  k.show = [](const F& f) {
+    return f.implicit_bonds ? "implicit" : f.subcycle_bonds ? "subcycled" : "explicit";
+  };
   return k;
 }
 

@@ -35,18 +35,7 @@ void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemW
     // The resin's torque, linear in the spin the same way (coupling_loops.hpp).
     ps.hydro_torque[i] = ps.torque_coeff[i] * (ps.resin_spin[i] - ps.omega[i]);
     Rot<D> t = -p.global_damping * ps.inertia[i] * ps.omega[i] + ps.hydro_torque[i];
-    for (std::int32_t e = ws.adj_start[i]; e < ws.adj_start[i + 1]; ++e) {
-      const std::int32_t entry = ws.adj[static_cast<std::size_t>(e)];
-      const DemPair<D>& pr = ws.pairs[static_cast<std::size_t>(entry / 2)];
-      if (!pr.active) continue;
-      if (entry % 2) {
-        f += pr.f;
-        t += pr.tb;
-      } else {
-        f -= pr.f;
-        t += pr.ta;
-      }
-    }
+    gather_pairs<D>(ws, i, f, t, [](const DemPair<D>&) { return true; });
     ps.force[i] = f;
     ps.torque[i] = t;
   }

@@ -229,6 +229,27 @@ void evaluate_pair(const DemParams<D>& p, double dt, DemParticles<D>& ps, DemPai
   pr.active = true;
 }
 
+// Adds owned particle i's pair results for the pairs `keep` selects to f
+// and t, in increasing partner gid (the adjacency order): the one gather
+// of the explicit, bond and slow force loops, so their sums are formed
+// in the same order (docs/dem.md, "Pairs").
+template <int D, class Keep>
+[[gnu::always_inline]] inline void gather_pairs(const DemWorkspace<D>& ws, std::size_t i, Vec<D>& f,
+                                                Rot<D>& t, Keep keep) {
+  for (std::int32_t e = ws.adj_start[i]; e < ws.adj_start[i + 1]; ++e) {
+    const std::int32_t entry = ws.adj[static_cast<std::size_t>(e)];
+    const DemPair<D>& pr = ws.pairs[static_cast<std::size_t>(entry / 2)];
+    if (!pr.active || !keep(pr)) continue;
+    if (entry % 2) {
+      f += pr.f;
+      t += pr.tb;
+    } else {
+      f -= pr.f;
+      t += pr.ta;
+    }
+  }
+}
+
 // Contacts of owned particle i with its candidate walls (the walls within
 // reach at the last build, in increasing index), history in its wall slots.
 template <int D>

@@ -120,6 +120,7 @@ void dem_build_pairs(const DemParams<D>& p, const std::vector<DemWall<D>>& walls
   ws.x_ref.assign(ps.x.begin(), ps.x.begin() + static_cast<std::ptrdiff_t>(n_own));
   dem_build_wall_lists(walls, ps, ws);
   ws.pairs_valid = true;
+  ws.chains_valid = false;  // the bond chains index the local order
 }
 
 template <int D>

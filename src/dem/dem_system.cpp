@@ -142,8 +142,13 @@ void DemSystem<D>::step(double dt) {
       }
     };
     if (!ws_.pairs_valid) dem_build_pairs(params, walls, particles, ws_);
-    dem_subcycled_step(
-        params, dt, dem_bond_substeps(params, dt), walls, particles, ws_, [] {}, settle);
+    if (params.implicit_bonds) {
+      dem_implicit_step(
+          params, dt, walls, particles, ws_, [] {}, settle);
+    } else {
+      dem_subcycled_step(
+          params, dt, dem_bond_substeps(params, dt), walls, particles, ws_, [] {}, settle);
+    }
   } else {
     dem_step(params, dt, walls, particles, ws_);
   }

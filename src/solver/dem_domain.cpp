@@ -1,8 +1,11 @@
 // Decomposed DEM sub-stepping (dem_domain.hpp).
 #include "sphdem/solver/dem_domain.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
 
 #include "sphdem/dem/dem_profile.hpp"
 
@@ -33,6 +36,19 @@ DemDomain<D>::DemDomain(const Decomposition<D>& dec, const DemParams<D>& params,
   }
   ws_.skin = ps_.n_owned > 0 ? s : 0;
   range_ = std::max(halo_range, ps_.n_owned > 0 ? 2.0 * r_max + s : 0.0);
+  // Implicit bonds solve each fiber whole: every rank that owns a particle
+  // of a fiber needs the others, at most chain_reach away. The halo reaches
+  // one cell, so the drivers make the cells that large (chain_cell_size).
+  if (params_.implicit_bonds) {
+    range_ = std::max(range_, params_.chain_reach);
+    for (int k = 0; k < D; ++k) {
+      if (dec_.grid().size(k) < range_) {
+        throw std::logic_error(
+            fmt::format("DEM halo of {} m wider than the decomposition's cells ({} m)", range_,
+                        dec_.grid().size(k)));
+      }
+    }
+  }
   dec_.keep_owned(ps_);
   rebuild();
 }
@@ -95,18 +111,29 @@ void DemDomain<D>::advance_subcycled(std::int64_t n, double dt) {
     const dem_detail::DemTimer t_halo(dem_detail::dem_profile().halo);
     halo_.forward(ps_, DemGroup::State);
   };
+  const bool implicit = params_.implicit_bonds;
   const auto settle = [&] {
     dem_detail::DemTimer t_collective(dem_detail::dem_profile().collective);
-    const bool moved = comm.max(dem_max_displacement2(ps_, walls_, ws_)) > limit2;
+    // Implicit bonds: a bond that broke here may be in another rank's chain
+    // as a ghost's stale copy; a rebuild sends every rank the new slots
+    // before the next solve, so all solve the same chain.
+    const double broke = implicit && ws_.bond_broke ? std::numeric_limits<double>::infinity() : 0.0;
+    const bool moved = comm.max(std::max(dem_max_displacement2(ps_, walls_, ws_), broke)) > limit2;
     t_collective.stop();
+    ws_.bond_broke = false;
     if (moved) {
       rebuild();
     } else {
       refresh();
     }
   };
-  for (std::int64_t s = 0; s < n; ++s)
-    dem_subcycled_step(params_, dt, inner, walls_, ps_, ws_, refresh, settle);
+  for (std::int64_t s = 0; s < n; ++s) {
+    if (implicit) {
+      dem_implicit_step(params_, dt, walls_, ps_, ws_, refresh, settle);
+    } else {
+      dem_subcycled_step(params_, dt, inner, walls_, ps_, ws_, refresh, settle);
+    }
+  }
 }
 
 template <int D>

@@ -32,6 +32,8 @@ DemParams<D> dem_params(const Case& c) {
   p.friction = f.friction;
   p.dt_safety = f.dt_safety;
   p.subcycle_bonds = f.subcycle_bonds;
+  p.implicit_bonds = f.implicit_bonds;
+  p.chain_reach = implicit_chain_reach(c);
   p.gravity = to_vec<D>(c.body_force);
   p.kn = contact_stiffness_from_bond(p, 0.5 * f.diameter, f.contact_stiffness_fraction);
   return p;
@@ -56,6 +58,11 @@ FiberSpec<D> fiber_spec(const FiberSettings& f) {
 }
 
 }  // namespace
+
+double implicit_chain_reach(const Case& c) {
+  if (!c.fibers || !c.fibers->implicit_bonds) return 0.0;
+  return 1.1 * (c.fibers->particles_per_fiber - 1) * c.fibers->diameter;
+}
 
 template <int D>
 DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlacement& placement) {
@@ -83,7 +90,7 @@ FiberModule<D>::FiberModule(const RunContext<D>& ctx, const FiberHost<D>* host) 
   dem_dt_ = bond_dt_ = all.stable_dt();
   if (all.params.subcycle_bonds) {  // bonds in inner steps, the step is the contacts'
     all.params.bond_dt = dem_dt_;
-    dem_dt_ = std::max(dem_dt_, stable_dem_contact_dt(all.params, all.particles));
+    dem_dt_ = stable_dem_outer_dt(all.params, all.particles);
   }
   if (host_) {
     health_box_ = host_->domain;
@@ -102,7 +109,8 @@ FiberModule<D>::FiberModule(const RunContext<D>& ctx, const FiberHost<D>* host) 
   health_box_ = Box<D>{box.lo.array() - margin, box.hi.array() + margin};
   const double r = 0.5 * c.fibers->diameter;
   own_dec_ = std::make_unique<Decomposition<D>>(
-      ctx.comm, health_box_, std::array<bool, 3>{false, false, false}, DemDomain<D>::reach(r, r));
+      ctx.comm, health_box_, std::array<bool, 3>{false, false, false},
+      std::max(DemDomain<D>::reach(r, r), implicit_chain_reach(c)));
   std::vector<std::int64_t> work(static_cast<std::size_t>(own_dec_->blocks()), 0);
   for (std::size_t i = 0; i < all.particles.n_owned; ++i)
     ++work[static_cast<std::size_t>(own_dec_->block_of(all.particles.x[i]))];

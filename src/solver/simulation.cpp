@@ -1,6 +1,7 @@
 // The resin module (resin_module.hpp) and Simulation, a run with resin.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <ostream>
@@ -11,6 +12,7 @@
 #include "sphdem/core/errors.hpp"
 #include "sphdem/geometry/geometry.hpp"
 #include "sphdem/parallel/ordered_sum.hpp"
+#include "sphdem/solver/fiber_module.hpp"
 #include "sphdem/solver/resin_module.hpp"
 #include "sphdem/solver/solver.hpp"
 
@@ -28,7 +30,8 @@ ResinModule<D>::ResinModule(const RunContext<D>& ctx)
            case_.resin.ambient_pressure),
       domain_(simulation_domain<D>(case_)),
       nl_(2.0 * case_.h(), case_.numerics.neighbor_skin * 2.0 * case_.h()),
-      dec_(comm_, domain_, case_.periodic, nl_.cutoff(),
+      // Cells at least a fiber long with implicit bonds (fiber_module.hpp).
+      dec_(comm_, domain_, case_.periodic, std::max(nl_.cutoff(), implicit_chain_reach(case_)),
            max_blocks(comm_.size(), case_.parallel.min_top_cells,
                       case_.parallel.top_cells_per_rank)) {
   const InitialCounts counts = build_initial_particles<D>(case_, ps_);

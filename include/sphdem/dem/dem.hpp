@@ -39,6 +39,13 @@ struct DemParams {
   // (contacts, walls, drag, body and external forces) at the step.
   bool subcycle_bonds = false;
   double bond_dt = 0;  // [s] the inner step's bound (stable_dem_dt), set by the driver
+  // Implicit bonds (docs/dem.md, "Implicit bonds"; with subcycle_bonds, whose
+  // outer step it keeps): the bonds of each fiber solved together in one step
+  // instead of inner steps. chain_reach [m]: the farthest two particles of a
+  // fiber can be apart (set by the driver; the DEM halo covers it, so that
+  // every rank holding a fiber's particle holds the whole fiber).
+  bool implicit_bonds = false;
+  double chain_reach = 0;
 };
 
 // The contact stiffness of docs/dem.md: a fraction of the bond's axial
@@ -128,8 +135,24 @@ struct DemWorkspace {
   std::vector<Rot<D>> bond_torque;
   // The slow forces held over the outer step (for its trapezoid correction).
   std::vector<Vec<D>> held_force, held_drag;
-  std::vector<Rot<D>> held_torque;
-  void invalidate() { pairs_valid = forces_valid = false; }
+  std::vector<Rot<D>> held_torque, held_hydro_torque;
+  // Implicit bonds: each bonded cluster (chain) with an owned particle, its
+  // members (local indices) in gid order chain_items[chain_start[c] ..
+  // chain_start[c+1]), its bonds chain_bonds[bond_start[c] .. bond_start[c+1])
+  // in (gid, partner gid) order; rebuilt after every pair-list build.
+  struct ChainBond {
+    std::int32_t a = 0, b = 0;  // positions in the chain's member list
+    std::int32_t owner = 0;     // local index of the slot's particle (member a or b)
+    std::int32_t partner = 0;   // local index of the other particle
+    std::int32_t slot = 0;      // in owner's bonds
+  };
+  std::vector<std::int32_t> chain_start, chain_items, bond_start, chain_band;
+  std::vector<ChainBond> chain_bonds;
+  std::vector<Vec<D>> v_half;  // the owned velocities of the step's middle
+  std::vector<Rot<D>> omega_half;
+  bool chains_valid = false;
+  bool bond_broke = false;  // a bond broke since the last rebuild vote
+  void invalidate() { pairs_valid = forces_valid = chains_valid = false; }
 };
 
 // Builds the pair list over owned and ghost particles (the contact history
@@ -208,6 +231,17 @@ void dem_subcycled_step(const DemParams<D>& p, double dt, std::int64_t inner,
                         std::vector<DemWall<D>>& walls, DemParticles<D>& ps, DemWorkspace<D>& ws,
                         const std::function<void()>& refresh_ghosts,
                         const std::function<void()>& settle);
+// One outer step of dt with implicit bonds (docs/dem.md, "Implicit bonds"):
+// half kick under all forces, refresh_ghosts(), the drift velocity u of
+// every fiber from its bonds' stiffness (M + dt^2/4 K) u = M v_half (the
+// trapezoidal rule, one linear solve per chain), drift by u,
+// refresh_ghosts(), the bonds' law over that motion, half kick, settle()
+// and the slow forces' trapezoid correction as dem_subcycled_step.
+template <int D>
+void dem_implicit_step(const DemParams<D>& p, double dt, std::vector<DemWall<D>>& walls,
+                       DemParticles<D>& ps, DemWorkspace<D>& ws,
+                       const std::function<void()>& refresh_ghosts,
+                       const std::function<void()>& settle);
 // Inner steps per outer step of dt: ceil(dt / bond_dt), at least 1.
 template <int D>
 std::int64_t dem_bond_substeps(const DemParams<D>& p, double dt);
@@ -216,6 +250,14 @@ std::int64_t dem_bond_substeps(const DemParams<D>& p, double dt);
 // per particle): the outer step of bond sub-cycling.
 template <int D>
 double stable_dem_contact_dt(const DemParams<D>& p, const DemParticles<D>& ps);
+
+// The outer step with the bonds kept apart (sub-cycled or implicit), at
+// least bond_dt: the contacts' stable step; implicit bonds take
+// kImplicitStepsPerContactStep steps in it, to follow the start of a
+// fiber's bending vibration (docs/dem.md, "Implicit bonds").
+inline constexpr int kImplicitStepsPerContactStep = 2;
+template <int D>
+double stable_dem_outer_dt(const DemParams<D>& p, const DemParticles<D>& ps);
 
 // dt_safety * min over particles of sqrt(m / k_trans) and sqrt(I / k_rot),
 // k summed over the particle's bonds plus one contact (docs/dem.md).

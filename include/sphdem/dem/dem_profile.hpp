@@ -18,6 +18,7 @@ struct DemProfile {
   double collective = 0;     // the rebuild decision (allreduce, includes waiting for other ranks)
   double rebuild = 0;        // store state, migration, ghost build, pair list build
   double rebuild_pairs = 0;  // of which the pair-list build
+  double chains = 0;         // implicit bonds: the chains' linear solves
   void reset() { *this = DemProfile{enabled}; }
 };
 

@@ -43,6 +43,13 @@ struct FiberHost {
 // time (explicit drag: stable below 2; docs/physics.md "The stable window").
 inline constexpr double kFiberDragStep = 1.0;
 
+// With implicit bonds, the farthest two particles of a fiber can be apart:
+// its straight length between end centres, 10 % stretched (a bond breaks
+// long before; glass at 3.5 %); 0 otherwise. The DEM halo and the cells of
+// the decomposition the fibers run on are at least this (docs/dem.md,
+// "Implicit bonds").
+double implicit_chain_reach(const Case& c);
+
 template <int D>
 class FiberModule final : public Module<D> {
  public:
