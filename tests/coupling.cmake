@@ -24,7 +24,7 @@ set_tests_properties(test_jeffery_long PROPERTIES TIMEOUT 1800 LABELS "long;coup
 
 # A fiber carried across the periodic face of a shear cell (sliding walls,
 # periodic x, the linear profile at t = 0): bonds intact, 2 ranks bitwise.
-sphdem_test(test_shear_cell SOURCES test_shear_cell.cpp RANKS 1 2 LABELS "validation;coupling")
+sphdem_test(test_shear_cell SOURCES test_shear_cell.cpp RANKS 1 2 TIMEOUT 600 LABELS "validation;coupling")
 
 # A 20-bead fiber in shear stays straight at half the Forgacs-Mason critical
 # eta G and buckles at twice it (issue 12 part 5; docs/physics.md "Buckling").
