@@ -127,6 +127,9 @@ TEST(CaseFibers, Errors) {
   expect_error(edit("  count: 175", "  area_fraction: 0.6"), 8, "fibers.area_fraction",
                "could not place");
   expect_error(edit("  count: 175", "  count: 20000"), 8, "fibers.count", "could not place");
+  // A fiber longer than the region (50 mm in the 30 mm bath): refused at once.
+  expect_error(edit("  count: 175", "  count: 1\n  particles_per_fiber: 200"), 8, "fibers.count",
+               "cannot lie in the region");
 }
 
 TEST(CaseFibers, NeitherFillNorFibers) {

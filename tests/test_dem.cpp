@@ -413,5 +413,54 @@ TEST(DemFibers, ImpossibleFractionIsAClearError) {
   EXPECT_THROW(place_fibers(s, sys), std::runtime_error);
 }
 
+// Long fibers (issue 12 part 5): aspect ratio 20 to 50 in the paper's bath,
+// at random orientations (2D) and on the sphere (3D), placed without
+// overlaps, touching and bonded.
+TEST(DemFibers, LongFibersAspectRatio20To50) {
+  for (int n : {20, 35, 50}) {
+    DemSystem<2> sys;
+    FiberSpec<2> s = bath(40, 7);
+    s.particles_per_fiber = n;
+    s.angle.reset();
+    place_fibers(s, sys);
+    check_placement(sys, s, 40);
+  }
+  DemSystem<3> sys;
+  FiberSpec<3> s;
+  s.count = 30;
+  s.particles_per_fiber = 50;
+  s.lo = Vec<3>(0, 0, 0);
+  s.hi = Vec<3>(15e-3, 15e-3, 15e-3);
+  s.seed = 9;
+  place_fibers(s, sys);
+  check_placement(sys, s, 30);
+}
+
+// A fiber longer than its region can hold is refused at once, naming the
+// key, whether its orientation is fixed or random (no direction fits).
+TEST(DemFibers, TooLongFiberIsAClearError) {
+  const auto expect_refused = [](const FiberSpec<2>& s) {
+    DemSystem<2> sys;
+    try {
+      place_fibers(s, sys);
+      ADD_FAILURE() << "no error";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("cannot lie in the region"), std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find("particles_per_fiber"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(sys.particles.size(), 0u);
+  };
+  FiberSpec<2> s = bath(1, 3);
+  s.particles_per_fiber = 121;  // 30.25 mm along x in a 30 mm wide bath
+  expect_refused(s);
+  s.particles_per_fiber = 110;  // 27.5 mm: fits
+  DemSystem<2> sys;
+  EXPECT_EQ(place_fibers(s, sys).fibers, 1);
+  s.angle.reset();
+  s.particles_per_fiber = 171;  // centres 42.5 mm apart; the diagonal left to them is 42.1 mm
+  expect_refused(s);
+}
+
 }  // namespace
 }  // namespace sphdem

@@ -54,6 +54,15 @@ void dem_build_pairs(const DemParams<D>& p, const std::vector<DemWall<D>>& walls
         continue;
       }
       if (i >= n_own && static_cast<std::size_t>(j) >= n_own) continue;
+      // Across a periodic face (shear cells) i may be one of several copies
+      // of its particle: the bond is the pair of mutually nearest copies.
+      // Without this check a copy of i near the face whose partner has no
+      // image there bonded to the partner's owned copy a period away, a
+      // second bond on the partner that blew up the shear cell
+      // (docs/physics.md "Shear cells").
+      if (index.find_nearest(ps.gid[i], ps.x[static_cast<std::size_t>(j)], ps) !=
+          static_cast<std::int32_t>(i))
+        continue;
       DemPair<D> pr;
       pr.a = static_cast<std::int32_t>(i);
       pr.b = j;

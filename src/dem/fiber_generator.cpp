@@ -9,6 +9,7 @@
 #include <numbers>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "sphdem/dem/dem_fibers.hpp"
@@ -39,6 +40,35 @@ Vec<D> draw_direction(const FiberSpec<D>& s, std::mt19937_64& rng) {
     const double z = 2.0 * uniform01(rng) - 1.0, phi = 2.0 * std::numbers::pi * uniform01(rng);
     const double rho = std::sqrt(std::max(0.0, 1.0 - z * z));
     return Vec<D>(rho * std::cos(phi), rho * std::sin(phi), z);
+  }
+}
+
+// Throws when no fiber of the spec can lie in the region (issue 12 part 5:
+// long fibers), before the attempts: its fixed direction does not fit
+// (along some axis the chain, end particles included, is longer than the
+// region), or, at random orientations, it is longer than the region's
+// diagonal (no direction fits).
+template <int D>
+void check_fiber_fits(const FiberSpec<D>& s) {
+  const double r = s.radius, length = 2.0 * r * s.particles_per_fiber;
+  const Vec<D> room = (s.hi - s.lo).array() - 2.0 * r;
+  const double half = (s.particles_per_fiber - 1) * r;
+  bool fits = (room.array() >= 0).all();
+  std::string where;
+  if (s.direction || (D == 2 && s.angle)) {
+    std::mt19937_64 unused(0);
+    const Vec<D> u = draw_direction(s, unused);
+    for (int d = 0; d < D; ++d) fits = fits && 2.0 * half * std::abs(u[d]) <= room[d];
+    where = "at its fixed orientation";
+  } else {
+    fits = fits && 2.0 * half <= room.norm();
+    where = "at any orientation";
+  }
+  if (!fits) {
+    throw std::runtime_error(fmt::format(
+        "fibers: a fiber of {} particles ({:.4g} m long, aspect ratio {}) cannot lie in the "
+        "region {}; lower `particles_per_fiber` or enlarge `region`",
+        s.particles_per_fiber, length, s.particles_per_fiber, where));
   }
 }
 
@@ -107,6 +137,7 @@ FiberPlacement place_fibers(const FiberSpec<D>& s, DemSystem<D>& sys) {
   for (int d = 0; d < D; ++d) {
     if (!(s.hi[d] > s.lo[d])) throw std::runtime_error("fibers: the region is empty");
   }
+  check_fiber_fits(s);
   const double region = region_measure(s);
   int target = s.count;
   if (target <= 0) {

@@ -1,0 +1,164 @@
+// Buckling of a flexible fiber in simple shear (issue 12 part 5;
+// docs/physics.md "Buckling"): a 3D bead chain of aspect ratio r_p = N
+// flips in Jeffery's orbit and passes through the compressional quadrant;
+// Forgacs & Mason (1959, J. Colloid Sci. 14) predict that it buckles there
+// when eta G exceeds (eta G)_crit = E (ln(2 r_p) - 1.75) / (2 r_p^4). The
+// chain stays straight at half that shear stress and buckles at twice it.
+//
+// As tests/test_jeffery.cpp, the run is one-way: the resin is a lattice
+// sampling the undisturbed shear u = G y e_x (the flow of Forgacs & Mason's
+// and Jeffery's theories, and the resin's linear profile of a shear cell),
+// the fiber is the DEM's bonded chain with its bending stiffness E I
+// (docs/dem.md "Parallel bonds": E I exactly per bond, I = pi R^4 / 4), and
+// the coupling pass (drag and hydrodynamic torque) runs every two relaxation
+// times of the beads.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include "sphdem/coupling/coupling_loops.hpp"
+#include "sphdem/dem/dem.hpp"
+
+namespace sphdem {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kG = 1.0;      // shear rate [1/s]
+constexpr double kMu = 1.0;     // resin viscosity [Pa s]
+constexpr double kA = 1e-3;     // bead radius [m]
+constexpr double kRho = 9.0e4;  // bead density: m / (6 pi mu a) = 0.02 / G, inertia negligible
+
+// Forgacs & Mason's critical shear stress of a fiber of modulus E and
+// aspect ratio r_p.
+double forgacs_mason_stress(double youngs_modulus, double rp) {
+  return youngs_modulus * (std::log(2 * rp) - 1.75) / (2 * std::pow(rp, 4));
+}
+
+// The resin: a lattice of spacing dp sampling u = G y e_x over the square
+// the fiber sweeps (|x|, |y| <= half) and |z| <= half_z.
+SphParticles<3> shear_lattice(double dp, double half, double half_z) {
+  SphParticles<3> sph;
+  const int n = static_cast<int>(std::ceil(half / dp)),
+            nz = static_cast<int>(std::ceil(half_z / dp));
+  std::int64_t id = 0;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int k = -nz; k <= nz; ++k) {
+        const Vec<3> x(i * dp, j * dp, k * dp);
+        const Vec<3> v(kG * x[1], 0, 0);
+        sph.push_owned(id++, Kind::Fluid, -1, 1000 * dp * dp * dp, x, v, 1000);
+      }
+  return sph;
+}
+
+struct Shape {
+  double straightness = 1;  // end-to-end distance / contour length (sum of bond lengths)
+  double phi = 0;           // end-to-end direction from +x in the x-y plane [rad]
+};
+
+Shape shape_of(const DemParticles<3>& dem, int n) {
+  double contour = 0;
+  for (int k = 1; k < n; ++k) contour += (dem.x[k] - dem.x[k - 1]).norm();
+  const Vec<3> e = dem.x[n - 1] - dem.x[0];
+  return {e.norm() / contour, std::atan2(e[1], e[0])};
+}
+
+struct Flip {
+  double least_straightness = 1;  // over the run
+  double phi_end = 0;             // unwrapped [rad]
+};
+
+// A chain of n beads in the x-y plane at phi0 (its middle at the origin),
+// bent into a small parabolic arc (sagitta `bend` diameters, the shape of
+// the first buckling mode) so that the instability has a seed, in the shear of the lattice with
+// bonds of modulus E, run until its end-to-end direction has turned to phi_end.
+Flip run_flip(int n, double youngs_modulus, double phi0, double phi_stop, double bend) {
+  const double dp = 4 * kA, h = 1.2 * dp;
+  const SphParticles<3> sph = shear_lattice(dp, n * kA + 2.5 * h, 2.5 * h);
+  DemSystem<3> sys;
+  const Vec<3> axis(std::cos(phi0), std::sin(phi0), 0), normal(-std::sin(phi0), std::cos(phi0), 0);
+  const double half = (n - 1) * kA;
+  for (int k = 0; k < n; ++k) {
+    const double s = (2 * k - (n - 1)) * kA;
+    const double w = 2 * kA * bend * (1 - (s / half) * (s / half));
+    const std::int64_t id = sys.add_particle(s * axis + w * normal, kA, kRho, 0);
+    if (k > 0) sys.add_bond(id - 1, id);
+  }
+  sys.params.youngs_modulus = youngs_modulus;
+  sys.params.kn = contact_stiffness_from_bond(sys.params, kA);
+  sys.invalidate_forces();
+  CouplingSettings s;
+  s.drag.rho = 1000;
+  s.drag.mu = kMu;
+  s.h = h;
+  CouplingState<3> st;
+  DemParticles<3>& dem = sys.particles;
+  drag_on_fibers<3>(s, sph, dem, st, 0.0);
+  double relax = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < dem.size(); ++i)
+    relax =
+        std::min({relax, dem.mass[i] / dem.drag_coeff[i], dem.inertia[i] / dem.torque_coeff[i]});
+  const double dt = std::min(0.5 * relax, sys.stable_dt());
+  const int per_pass = std::max(1, static_cast<int>(std::ceil(2 * relax / dt)));
+  Flip f;
+  double phi = phi0;
+  double t = 0;
+  while (phi > phi_stop && t < 200 / kG) {
+    for (int k = 0; k < per_pass; ++k) sys.step(dt);
+    t += per_pass * dt;
+    drag_on_fibers<3>(s, sph, dem, st, per_pass * dt);
+    const Shape sh = shape_of(dem, n);
+    phi += std::remainder(sh.phi - phi, 2 * kPi);
+    f.least_straightness = std::min(f.least_straightness, sh.straightness);
+  }
+  f.phi_end = phi;
+  return f;
+}
+
+// The bead model's own threshold, for the report: the chain's axial
+// compression at phi = -45 deg, zeta G a N^2 / 8 at its middle, against a
+// free beam's buckling load under a load growing linearly from its middle,
+// 20.49 E I / L^2 (docs/physics.md "Buckling"), with zeta the Stokes drag
+// 6 pi mu a: eta G_crit = 1.707 E / N^4.
+double bead_model_stress(double youngs_modulus, int n) {
+  return 1.707 * youngs_modulus / std::pow(n, 4);
+}
+
+void check_buckling(int n) {
+  const double rp = n;
+  // The modulus at which eta G = kMu kG is Forgacs & Mason's critical stress.
+  const double e_crit = kMu * kG / forgacs_mason_stress(1.0, rp);
+  // The seed: a sagitta of 10 % of a diameter (end-to-end / contour 0.99993
+  // at r_p = 20). Stable, it stays that small; unstable, it grows about
+  // thirty-fold through the flip (0.02 grew to 0.6 diameters at r_p = 20).
+  const double bend = 0.1;
+  const double phi0 = -10 * kPi / 180, phi_stop = -100 * kPi / 180;
+  // Half the critical eta G: the modulus twice the critical one; and the reverse.
+  const Flip straight = run_flip(n, 2 * e_crit, phi0, phi_stop, bend);
+  const Flip buckled = run_flip(n, 0.5 * e_crit, phi0, phi_stop, bend);
+  std::printf(
+      "r_p %d: E_crit %.4g Pa (bead model's own threshold at %.2f of Forgacs-Mason's eta G); "
+      "least end-to-end / contour through the flip: %.5f at 0.5 x, %.5f at 2 x\n",
+      n, e_crit, bead_model_stress(1.0, n) / forgacs_mason_stress(1.0, rp),
+      straight.least_straightness, buckled.least_straightness);
+  EXPECT_LT(straight.phi_end, phi_stop);
+  EXPECT_LT(buckled.phi_end, phi_stop);
+  EXPECT_GT(straight.least_straightness, 0.99);
+  EXPECT_LT(buckled.least_straightness, 0.99);
+}
+
+// Aspect ratios 20 and 30: the bead model's own threshold is 1.76 and 1.46
+// times Forgacs & Mason's, inside the bracket [0.5, 2] (docs/physics.md
+// "Buckling").
+TEST(Buckling, ForgacsMasonBracket3D) {
+  check_buckling(20);
+  check_buckling(30);
+}
+
+}  // namespace
+}  // namespace sphdem
