@@ -45,7 +45,8 @@ OwnedFiberState<D> gathered_fiber_state(const DemParticles<D>& ps, const Comm& c
       for (int k = 0; k < D; ++k) terms.push_back({b.id, ps.fiber[i] * D + k, d[k]});
     }
   }
-  const std::vector<KeySum> sums = ordered_sums(comm, terms, static_cast<std::size_t>(n_fibers * D));
+  const std::vector<KeySum> sums =
+      ordered_sums(comm, terms, static_cast<std::size_t>(n_fibers * D));
   FiberPieceInput all;
   for (const OrderedTerm& t : gather_terms(comm, particles)) {
     all.gid.push_back(t.order);
@@ -175,8 +176,12 @@ void check_against_gathered() {
   expect_same(owned_fiber_state(part, world), gathered_fiber_state(part, world));
 }
 
-TEST(FiberHomes, SameAsGathered2D) { check_against_gathered<2>(); }
-TEST(FiberHomes, SameAsGathered3D) { check_against_gathered<3>(); }
+TEST(FiberHomes, SameAsGathered2D) {
+  check_against_gathered<2>();
+}
+TEST(FiberHomes, SameAsGathered3D) {
+  check_against_gathered<3>();
+}
 
 TEST(FiberHomes, BondBetweenFibersIsRefused) {
   DemParticles<2> ps = fibers<2>();

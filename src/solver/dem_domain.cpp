@@ -11,8 +11,8 @@ namespace sphdem {
 
 template <int D>
 DemDomain<D>::DemDomain(const Decomposition<D>& dec, const DemParams<D>& params,
-                        std::vector<DemWall<D>> walls, DemParticles<D> particles,
-                        double halo_range, Input input)
+                        std::vector<DemWall<D>> walls, DemParticles<D> particles, double halo_range,
+                        Input input)
     : dec_(dec), params_(params), walls_(std::move(walls)), ps_(std::move(particles)) {
   const Comm& comm = dec_.comm();
   double r_max = 0, r_min = std::numeric_limits<double>::infinity();

@@ -152,9 +152,9 @@ OwnedFiberState<D> owned_fiber_state(const DemParticles<D>& ps, const Comm& comm
     const auto it = std::lower_bound(fiber_of.begin(), fiber_of.end(),
                                      std::make_pair(b.partner, std::int64_t{-1}));
     if (it == fiber_of.end() || it->first != b.partner || it->second != b.fiber)
-      throw std::logic_error(
-          "sphdem: the bond of DEM particles " + std::to_string(b.owner) + " and " +
-          std::to_string(b.partner) + " joins two fibers (fiber pieces assume it never does)");
+      throw std::logic_error("sphdem: the bond of DEM particles " + std::to_string(b.owner) +
+                             " and " + std::to_string(b.partner) +
+                             " joins two fibers (fiber pieces assume it never does)");
     in.bonds.emplace_back(b.owner, b.partner);
   }
   const FiberPieces pieces = fiber_pieces(in);
@@ -165,8 +165,8 @@ OwnedFiberState<D> owned_fiber_state(const DemParticles<D>& ps, const Comm& comm
   });
   const std::int64_t first_fiber = (n_fibers * comm.rank() + p - 1) / p;  // smallest f homed here
   const std::int64_t end_fiber = (n_fibers * (comm.rank() + 1) + p - 1) / p;
-  std::vector<Vec<D>> sums(static_cast<std::size_t>(std::max<std::int64_t>(0, end_fiber - first_fiber)),
-                           Vec<D>::Zero());
+  std::vector<Vec<D>> sums(
+      static_cast<std::size_t>(std::max<std::int64_t>(0, end_fiber - first_fiber)), Vec<D>::Zero());
   for (const DirectionTerm& t : received) {
     if (t.fiber < first_fiber || t.fiber >= end_fiber)
       throw std::logic_error("sphdem: a fiber's direction term reached the wrong home");
@@ -175,7 +175,8 @@ OwnedFiberState<D> owned_fiber_state(const DemParticles<D>& ps, const Comm& comm
   }
   std::vector<Answer> answers(mine.size());
   for (std::size_t r = 0; r < mine.size(); ++r) {
-    const Vec<D> dir = unit_headless<D>(sums[static_cast<std::size_t>(mine[r].fiber - first_fiber)]);
+    const Vec<D> dir =
+        unit_headless<D>(sums[static_cast<std::size_t>(mine[r].fiber - first_fiber)]);
     answers[r] = {pieces.piece[r], pieces.length[r], {0, 0, 0}};
     for (int k = 0; k < D; ++k) answers[r].direction[k] = dir[k];
   }

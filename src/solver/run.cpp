@@ -294,8 +294,8 @@ std::string Run<D>::restart_from(const std::string& checkpoint) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (opt_.log && comm_.root())
-    *opt_.log << fmt::format("restarting from {} (step {}, t = {:.6g} s; read in {:.3g} s)\n",
-                             path, clock_.step, clock_.time, seconds)
+    *opt_.log << fmt::format("restarting from {} (step {}, t = {:.6g} s; read in {:.3g} s)\n", path,
+                             clock_.step, clock_.time, seconds)
               << std::flush;
   return path;
 }

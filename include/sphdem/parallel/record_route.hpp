@@ -50,7 +50,8 @@ template <class T>
 std::vector<T> received_records(const RecordRoute& route) {
   static_assert(std::is_trivially_copyable_v<T>);
   std::vector<T> out(route.data().size() / sizeof(T));
-  if (!out.empty()) std::memcpy(static_cast<void*>(out.data()), route.data().data(), route.data().size());
+  if (!out.empty())
+    std::memcpy(static_cast<void*>(out.data()), route.data().data(), route.data().size());
   return out;
 }
 
