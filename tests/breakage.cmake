@@ -1,8 +1,8 @@
 # Bond stress peaks and broken fibers (issue 12 part 6, docs/dem.md "Bond
 # stress peaks", "Broken fibers"): the bookkeeping and the fiber split by
 # hand, then a fibers-only run whose bonds break, end to end
-# (tests/check_breakage.py): 1 and 2 ranks bitwise, a restart through the
-# breaks bitwise, and tools/fiber_lengths.py on its output.
+# (tests/check_breakage.py): 1, 2 and 3 ranks bitwise, a restart through the
+# breaks on 1 and on 3 ranks bitwise, and tools/fiber_lengths.py on its output.
 sphdem_test(test_breakage SOURCES test_breakage.cpp RANKS 1 LABELS "unit;dem")
 add_test(NAME breakage_run
          COMMAND ${SPHDEM_PYTHON} ${CMAKE_CURRENT_SOURCE_DIR}/check_breakage.py

@@ -5,10 +5,11 @@ with 100 fibers in the top 3 mm of the bath, the piston at 10 m/s and a
 tensile strength (15 MPa) low enough that the piston breaks bonds of the
 fibers it hits (16000 DEM steps, a few seconds per run).
 
-  - the same run on 1 rank, on 2 ranks, and on 2 ranks to a checkpoint
-    restarted on 1 rank: every snapshot's /dem datasets (particles and
-    bond lines: stresses, their peaks, broken, pieces) bitwise equal, with
-    bonds broken before the checkpoint and more after it;
+  - the same run on 1, 2 and 3 ranks, and on 2 ranks to a checkpoint
+    restarted on 1 and on 3 ranks: every snapshot's /dem datasets
+    (particles and bond lines: stresses, their peaks, broken, pieces, the
+    pieces found at the fibers' home ranks, docs/checkpoint.md "At scale")
+    bitwise equal, with bonds broken before the checkpoint and more after it;
   - the peaks: at each snapshot the run's peak is the larger of the last
     snapshot's and this interval's, the interval's peak is at least the
     current stress, a broken bond's peak reached the strength;
@@ -80,18 +81,24 @@ code, log = run(["run", case, "-o", "np1", "--steps", str(STEPS), *ARGS])
 expect(code == 0, "1-rank run: " + log.strip()[-300:])
 code, log = run(["run", case, "-o", "np2", "--steps", str(STEPS), *ARGS], 2)
 expect(code == 0, "2-rank run: " + log.strip()[-300:])
+code, log = run(["run", case, "-o", "np3", "--steps", str(STEPS), *ARGS], 3)
+expect(code == 0, "3-rank run: " + log.strip()[-300:])
 code, log = run(["run", case, "-o", "restart", "--steps", str(HALF), "--checkpoint-every",
                  str(HALF), *ARGS], 2)
 expect(code == 0, "2-rank run to a checkpoint: " + log.strip()[-300:])
+shutil.copytree(os.path.join(work, "restart"), os.path.join(work, "restart3"))
 code, log = run(["run", case, "-o", "restart", "--steps", str(STEPS), "--restart", "latest",
                  *ARGS])
 expect(code == 0, "restart on 1 rank: " + log.strip()[-300:])
+code, log = run(["run", case, "-o", "restart3", "--steps", str(STEPS), "--restart", "latest",
+                 *ARGS], 3)
+expect(code == 0, "restart on 3 ranks: " + log.strip()[-300:])
 if failures:
     sys.exit(1)
 
 ref = snapshots("np1")
 expect(len(ref) == STEPS // EVERY + 1, "%d snapshots" % len(ref))
-for other in ("np2", "restart"):
+for other in ("np2", "np3", "restart", "restart3"):
     got = snapshots(other)
     diffs = []
     for a, b in zip(ref, got):

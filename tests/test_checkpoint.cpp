@@ -9,6 +9,8 @@
 //    low pressure limit (so the V/P controller is active). The Poiseuille
 //    test fails for a restart that rebuilds at the current positions
 //    instead of the stored ones (tried: x, v, rho differ in the last bits).
+//  - a coupled restart on all P ranks reads only each rank's slice of the
+//    resin's and the fibers' rows (checkpoint_rows_read), never the whole set;
 //  - the column templates round-trip a container's checkpoint fields;
 //  - a checkpoint of another case, or of the same case with other physics,
 //    is refused with a message naming the case or the key.
@@ -332,6 +334,19 @@ void expect_same_coupled_state(const std::string& a, const std::string& b) {
   EXPECT_EQ(ra.integer("dem_substeps"), rb.integer("dem_substeps"));
 }
 
+// A restart on the world's P ranks read `rows` rows of `group` on this
+// rank: together exactly the checkpoint's N, each at most ceil(N / P).
+void expect_rows_read_are_a_share(std::int64_t rows, const std::string& path,
+                                  const std::string& group) {
+  const Comm world(MPI_COMM_WORLD);
+  const std::int64_t n = CheckpointReader(world, path).count(group);
+  const std::int64_t p = world_size();
+  EXPECT_EQ(world.sum(rows), n) << group << ": the ranks read every row once";
+  EXPECT_LE(rows, (n + p - 1) / p)
+      << group << ": rank " << world_rank() << " read " << rows << " of " << n << " rows";
+  EXPECT_GT(n, 3 * p) << group << ": too few rows to tell a share from the whole";
+}
+
 TEST(Checkpoint, CoupledRestartIsBitwiseWhereFibersTouch) {
   const Case c = testing::load_input("validation/coupled_contacts.yaml");
   const std::int64_t n = 500;
@@ -364,7 +379,14 @@ TEST(Checkpoint, CoupledRestartIsBitwiseWhereFibersTouch) {
     expect_same_coupled_state(straight, again);
     MPI_Comm_free(&sub);
   }
+  // On all P ranks: each reads only its slice of the resin's and the
+  // fibers' rows (about N / P, docs/checkpoint.md "At scale"), never the
+  // whole set, and the run continues bitwise.
+  const std::int64_t sph_before = checkpoint_rows_read("sph");
+  const std::int64_t dem_before = checkpoint_rows_read("dem");
   const std::string all = run_and_checkpoint(c, MPI_COMM_WORLD, dir + "/all", 2 * n, half);
+  expect_rows_read_are_a_share(checkpoint_rows_read("sph") - sph_before, half, "sph");
+  expect_rows_read_are_a_share(checkpoint_rows_read("dem") - dem_before, half, "dem");
   expect_same_coupled_state(straight, all);
   if (world_rank() == 0) {
     const std::string one = run_and_checkpoint(c, MPI_COMM_SELF, dir + "/one", 2 * n, half);

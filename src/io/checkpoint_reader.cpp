@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <stdexcept>
 
 #include "checkpoint_format.hpp"
@@ -15,7 +16,17 @@ namespace {
 namespace fs = std::filesystem;
 using namespace checkpoint_io;
 
+std::map<std::string, std::int64_t>& rows_read() {
+  static std::map<std::string, std::int64_t> rows;
+  return rows;
+}
+
 }  // namespace
+
+std::int64_t checkpoint_rows_read(const std::string& group) {
+  const auto it = rows_read().find(group);
+  return it == rows_read().end() ? 0 : it->second;
+}
 
 struct CheckpointReader::Impl {
   Comm comm;
@@ -218,6 +229,7 @@ std::vector<CheckpointColumn> CheckpointReader::particles(const std::string& gro
     });
     cols.push_back(std::move(c));
   }
+  rows_read()[group] += n;
   for (std::size_t k = 0; k < cols.size(); ++k) {
     // Every rank holds every row with all_rows: each checks the whole sum.
     if (checksum(all_rows ? Comm(MPI_COMM_SELF) : m.comm, cols[k], first) != stored[k])

@@ -79,7 +79,7 @@ void write_dem_checkpoint(CheckpointWriter& w, DemDomain<D>& dem) {
 // The fibers as read back, before anything is committed.
 template <int D>
 struct DemCheckpoint {
-  DemParticles<D> particles;  // all of them: every rank reads every row
+  DemParticles<D> particles;  // this rank's slice of the rows (gid order)
   std::vector<DemWall<D>> walls;
 };
 
@@ -93,9 +93,10 @@ inline void add_missing_bond_peaks(std::vector<CheckpointColumn>& cols, std::siz
   cols.push_back(std::move(c));
 }
 
-// Reads the fibers of checkpoint `path` for the domain `dem` (collective);
-// InputError naming `path` when the particle count or the walls differ from
-// the case's.
+// Reads the fibers of checkpoint `path` for the domain `dem` (collective):
+// this rank's slice of the rows, a balanced share by global id
+// (docs/checkpoint.md "At scale"); InputError naming `path` when the
+// particle count or the walls differ from the case's.
 template <int D>
 DemCheckpoint<D> read_dem_checkpoint(CheckpointReader& r, const DemDomain<D>& dem,
                                      const std::string& path) {
@@ -105,9 +106,10 @@ DemCheckpoint<D> read_dem_checkpoint(CheckpointReader& r, const DemDomain<D>& de
     throw InputError(path, 0, "",
                      fmt::format("the checkpoint holds {} DEM particles, the case makes {}", n,
                                  dem.global_count()));
-  std::vector<CheckpointColumn> cols = r.particles("dem", /*all_rows=*/true);
-  add_missing_bond_peaks(cols, static_cast<std::size_t>(n));
-  assign_checkpoint_columns(out.particles, cols, static_cast<std::size_t>(n), path);
+  std::vector<CheckpointColumn> cols = r.particles("dem");
+  const std::size_t rows = cols.empty() ? 0 : cols.front().rows();
+  add_missing_bond_peaks(cols, rows);
+  assign_checkpoint_columns(out.particles, cols, rows, path);
   out.walls = dem.walls();
   if (!set_dem_wall_state(out.walls, r.reals("dem_walls")))
     throw InputError(path, 0, "", "the checkpoint's DEM walls do not match the case's");
@@ -115,13 +117,15 @@ DemCheckpoint<D> read_dem_checkpoint(CheckpointReader& r, const DemDomain<D>& de
 }
 
 // Replaces `dem` by a domain of the checkpoint's fibers on decomposition
-// `dec`, whose forces are the checkpoint's (an evaluation would re-project
-// the contacts' tangential springs: not bitwise).
+// `dec` (each rank's slice migrates once to the owners), whose forces are
+// the checkpoint's (an evaluation would re-project the contacts'
+// tangential springs: not bitwise).
 template <int D>
 void restore_dem(std::unique_ptr<DemDomain<D>>& dem, const Decomposition<D>& dec,
                  DemCheckpoint<D>&& loaded) {
   dem = std::make_unique<DemDomain<D>>(dec, dem->params(), std::move(loaded.walls),
-                                       std::move(loaded.particles), dem->halo_range());
+                                       std::move(loaded.particles), dem->halo_range(),
+                                       DemDomain<D>::Input::Share);
   dem->adopt_forces();
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 
 #include "sphdem/dem/dem_profile.hpp"
@@ -13,14 +14,20 @@ namespace sphdem {
 
 template <int D>
 DemDomain<D>::DemDomain(const Decomposition<D>& dec, const DemParams<D>& params,
-                        std::vector<DemWall<D>> walls, DemParticles<D> all, double halo_range)
-    : dec_(dec), params_(params), walls_(std::move(walls)), ps_(std::move(all)) {
+                        std::vector<DemWall<D>> walls, DemParticles<D> particles, double halo_range,
+                        Input input)
+    : dec_(dec), params_(params), walls_(std::move(walls)), ps_(std::move(particles)) {
+  const Comm& comm = dec_.comm();
   double r_max = 0, r_min = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < ps_.n_owned; ++i) {
     r_max = std::max(r_max, ps_.radius[i]);
     r_min = std::min(r_min, ps_.radius[i]);
   }
+  // Exact reductions: every rank gets the same radii, skin and range.
+  r_max = comm.max(r_max);
+  r_min = comm.min(r_min);
   n_global_ = static_cast<std::int64_t>(ps_.n_owned);
+  if (input == Input::Share) n_global_ = comm.sum(n_global_);
   // The skin: at least skin(r_min); more when the decomposition's cells
   // leave room beyond 2 R_max (the halo must stay within one cell), up to
   // kMaxSkin r_min. A wider skin means fewer rebuilds (each one a
@@ -29,13 +36,13 @@ DemDomain<D>::DemDomain(const Decomposition<D>& dec, const DemParams<D>& params,
   // the results do not depend on it (the list is complete either way).
   constexpr double kMaxSkin = 1.0;  // LAMMPS granular decks: 0.3 d = 0.6 R
   double s = skin(r_min);
-  if (ps_.n_owned > 0) {
+  if (n_global_ > 0) {
     double cell = std::numeric_limits<double>::infinity();
     for (int k = 0; k < D; ++k) cell = std::min(cell, dec_.grid().size(k));
     s = std::max(s, std::min(cell - 2.0 * r_max, kMaxSkin * r_min));
   }
-  ws_.skin = ps_.n_owned > 0 ? s : 0;
-  range_ = std::max(halo_range, ps_.n_owned > 0 ? 2.0 * r_max + s : 0.0);
+  ws_.skin = n_global_ > 0 ? s : 0;
+  range_ = std::max(halo_range, n_global_ > 0 ? 2.0 * r_max + s : 0.0);
   // Implicit bonds solve each fiber whole: every rank that owns a particle
   // of a fiber needs the others, at most chain_reach away. The halo reaches
   // one cell, so the drivers make the cells that large (chain_cell_size).
@@ -49,7 +56,21 @@ DemDomain<D>::DemDomain(const Decomposition<D>& dec, const DemParams<D>& params,
       }
     }
   }
-  dec_.keep_owned(ps_);
+  if (input == Input::Replicated) {
+    dec_.keep_owned(ps_);
+  } else if (comm.size() > 1) {
+    std::array<bool, 3> periodic{false, false, false};
+    for (int k = 0; k < D; ++k) periodic[static_cast<std::size_t>(k)] = dec_.grid().periodic(k);
+    wrap_periodic<D>(ps_, dec_.grid().box(), periodic);
+    migrate<D>(dec_, ps_);
+    // Arrivals come by source rank: back to gid order, as keep_owned
+    // leaves the generator's (or a whole checkpoint's) particles.
+    std::vector<std::size_t> order(ps_.n_owned);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return ps_.gid[a] < ps_.gid[b]; });
+    ps_.permute_owned(order);
+  }
   rebuild();
 }
 

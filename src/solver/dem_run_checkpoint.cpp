@@ -19,9 +19,10 @@ void FiberModule<D>::write_checkpoint(CheckpointWriter& w) {
   w.attribute("dem_substeps", substeps_);
 }
 
-// Every rank reads every fiber (DemDomain starts from the full set and
-// keeps those in its cells); the commit makes a new domain of them on the
-// decomposition as it is then (a coupled run's resin re-partitions first).
+// Each rank reads its slice of the fibers' rows (never the whole set); the
+// commit makes a new domain of them on the decomposition as it is then (a
+// coupled run's resin re-partitions first), one migration taking each
+// particle to its owner.
 template <int D>
 std::function<void()> FiberModule<D>::read_checkpoint(CheckpointReader& r,
                                                       const std::string& path) {

@@ -193,6 +193,12 @@ class CheckpointReader {
   std::unique_ptr<Impl> impl_;
 };
 
+// The rows of particle group `group` (e.g. "sph", "dem") this process has
+// read from checkpoints since it started: every CheckpointReader::particles
+// call adds the rows it read. A restart on P ranks reads about N / P of each
+// group per rank (docs/checkpoint.md "At scale"; tests/test_restart_share.cpp).
+std::int64_t checkpoint_rows_read(const std::string& group);
+
 // Moves the column named `name` out of `cols` (InputError naming `file` if absent).
 CheckpointColumn take_column(std::vector<CheckpointColumn>& cols, const std::string& name,
                              const std::string& file);

@@ -21,13 +21,18 @@ namespace sphdem {
 template <int D>
 class DemDomain {
  public:
-  // Collective. `all` holds every DEM particle (the same on every rank, as
-  // the generator makes them); each rank keeps those in its cells.
-  // halo_range: how far other ranks must see a particle (at least the
-  // DEM pair reach 2 R_max + skin, which is added here; a coupled run
-  // passes the SPH kernel support).
+  // What each rank passes to the constructor: every DEM particle, the same
+  // on every rank (as the generator makes them), each rank keeping those in
+  // its cells; or a share, every particle on exactly one rank (a restart's
+  // slice of the checkpoint, docs/checkpoint.md "At scale"), which one
+  // migration takes to the owners.
+  enum class Input { Replicated, Share };
+  // Collective. halo_range: how far other ranks must see a particle (at
+  // least the DEM pair reach 2 R_max + skin, which is added here; a coupled
+  // run passes the SPH kernel support). Either input gives the owned
+  // particles in the same (gid) order.
   DemDomain(const Decomposition<D>& dec, const DemParams<D>& params, std::vector<DemWall<D>> walls,
-            DemParticles<D> all, double halo_range = 0);
+            DemParticles<D> particles, double halo_range = 0, Input input = Input::Replicated);
 
   // The pair-list skin and the pair reach 2 R_max + skin for particle radii
   // in [r_min, r_max]: the smallest cell a DEM-only decomposition may use.
