@@ -58,7 +58,9 @@ void expect_share_of_one_rank_set(const Case& c) {
   EXPECT_LE(mine.x.capacity(), share) << "allocated more than its share";
   EXPECT_EQ(comm.sum(static_cast<std::int64_t>(mine.n_owned)),
             static_cast<std::int64_t>(all.n_owned));
-  if (comm.size() > 1) EXPECT_LT(share, all.n_owned) << "one rank holds everything";
+  if (comm.size() > 1) {
+    EXPECT_LT(share, all.n_owned) << "one rank holds everything";
+  }
 
   // Ids: as on one rank (there gid i is slot i), each once, resin first.
   std::size_t mismatched = 0, wrong_rank = 0;
@@ -70,8 +72,12 @@ void expect_share_of_one_rank_set(const Case& c) {
     std::int64_t& last = mine.kind[i] == Kind::Fluid ? last_fluid : last_wall;
     EXPECT_GT(id, last) << "ids not ascending within a kind";
     last = id;
-    if (mine.kind[i] == Kind::Wall) EXPECT_GE(id, static_cast<std::int64_t>(serial.fluid));
-    if (i > 0 && mine.kind[i] == Kind::Fluid) EXPECT_EQ(mine.kind[i - 1], Kind::Fluid);
+    if (mine.kind[i] == Kind::Wall) {
+      EXPECT_GE(id, static_cast<std::int64_t>(serial.fluid));
+    }
+    if (i > 0 && mine.kind[i] == Kind::Fluid) {
+      EXPECT_EQ(mine.kind[i - 1], Kind::Fluid);
+    }
     wrong_rank += dec.owner(mine.x[i]) != comm.rank();
     const auto j = static_cast<std::size_t>(id);
     const auto got = particle_bytes(mine, i), want = particle_bytes(all, j);

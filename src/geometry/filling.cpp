@@ -171,6 +171,18 @@ void initial_temperatures(const Case& c, SphParticles<D>& ps) {
 
 template <int D>
 struct LatticeFill<D>::Impl {
+  explicit Impl(const Case& kase)
+      : c(kase),
+        dom(simulation_domain<D>(kase)),
+        L(make_lattice<D>(kase, dom)),
+        tol(1e-9 * L.dx),
+        wall_reach(kase.mold.wall_layers * L.dx + tol),
+        mass(kase.resin.density * std::pow(L.dx, D)),
+        up(up_direction<D>(kase)),
+        nx(std::max(0L, L.last[0] - L.first[0] + 1)),
+        ny(std::max(0L, L.last[1] - L.first[1] + 1)) {
+    for (int k = 0; k < D; ++k) v0[k] = kase.initial_velocity[k];
+  }
   const Case& c;
   Box<D> dom;
   Lattice<D> L;
@@ -180,19 +192,7 @@ struct LatticeFill<D>::Impl {
 };
 
 template <int D>
-LatticeFill<D>::LatticeFill(const Case& c)
-    : impl_(std::make_unique<Impl>(Impl{c, {}, {}, 0, 0, 0, {}, {}, 0, 0})) {
-  Impl& m = *impl_;
-  m.dom = simulation_domain<D>(c);
-  m.L = make_lattice<D>(c, m.dom);
-  m.tol = 1e-9 * m.L.dx;
-  m.wall_reach = c.mold.wall_layers * m.L.dx + m.tol;
-  m.mass = c.resin.density * std::pow(m.L.dx, D);
-  for (int k = 0; k < D; ++k) m.v0[k] = c.initial_velocity[k];
-  m.up = up_direction<D>(c);
-  m.nx = std::max(0L, m.L.last[0] - m.L.first[0] + 1);
-  m.ny = std::max(0L, m.L.last[1] - m.L.first[1] + 1);
-}
+LatticeFill<D>::LatticeFill(const Case& c) : impl_(std::make_unique<Impl>(c)) {}
 
 template <int D>
 LatticeFill<D>::~LatticeFill() = default;
