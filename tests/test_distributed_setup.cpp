@@ -113,9 +113,9 @@ TEST(DistributedSetup, HydrostaticColumn3DOnCoarseTopCellsMatchesOneRank) {
 // A fill region without a node is an input error on every rank (none waits
 // in a collective for a rank that threw).
 TEST(DistributedSetup, EmptyFillRegionIsAnErrorOnEveryRank) {
-  const Case c = testing::load_input(
-      "plate.yaml",
-      {"numerics.spacing=1e-3", "fill[0].box.min=[0.1, 0.1]", "fill[0].box.max=[0.1005, 0.1005]"});
+  const Case c =
+      testing::load_input("plate.yaml", {"numerics.spacing=1e-3", "fill[0].box.min=[1e-4, 0.0401]",
+                                         "fill[0].box.max=[2e-4, 0.0402]"});
   const Comm comm;
   Decomposition<2> dec(comm, simulation_domain<2>(c), c.periodic, 2.0 * c.h());
   SphParticles<2> ps;
