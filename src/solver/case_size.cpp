@@ -78,10 +78,11 @@ constexpr double kBytesPerCell = 4 + 2 * 8;
 // (measured: 36.6 MiB on one rank, 39.0 MiB on each of four, for the plate
 // at spacing 6e-4 m; docs/scaling.md, "Memory per rank").
 constexpr double kProcessBytes = 38.0 * 1024 * 1024;
-// Allocator slack and vector growth over the bytes the particles' fields
-// and lists hold: fitted to the measured peak of the plate at 266k and
-// 586k particles on 1, 2 and 4 ranks (all within 8 %; docs/scaling.md).
-constexpr double kSphOverhead = 1.2;
+// Allocator slack over the bytes the particles' fields and lists hold:
+// fitted to the measured peak of a 2 M particle box at 1, 2, 4 and 8 ranks
+// and the plate at 266k particles at 1, 2 and 4 (all within 20 %;
+// docs/scaling.md, "Memory per rank").
+constexpr double kSphOverhead = 1.1;
 // The fibers' part, measured against `sphdem check`'s peak resident size
 // before the resin's calibration (allocator slack, pair-list growth).
 constexpr double kDemOverhead = 1.6;
