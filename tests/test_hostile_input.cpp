@@ -188,7 +188,7 @@ TEST(HostileInput, SizeEstimateFollowsTheGeometry) {
   const CaseSize fine = estimate_case_size(
       load_case_from_string(std::string(kMinimal), kFile, {"numerics.spacing=1.5e-4"}), 1);
   EXPECT_NEAR(fine.resin / s.resin, 4.0, 1e-9);
-  // More ranks: less per rank once running (the set-up still holds all).
+  // More ranks: less per rank (each rank builds and runs its share).
   EXPECT_LT(estimate_case_size(c, 4).run_bytes, s.run_bytes);
   // The reproducer of defect 3: spacing 1e-6 m is far beyond any node.
   const CaseSize huge = estimate_case_size(

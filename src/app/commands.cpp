@@ -110,10 +110,7 @@ void print_estimate(const CaseSize& s, int ranks) {
       "  memory: about {} per rank at {} rank(s) (estimated before building, from about {:.3g} "
       "resin, {:.3g} wall and {:.3g} DEM particles; set-up {}, running {}{})\n",
       format_bytes(s.bytes_per_rank()), ranks, s.resin, s.walls, s.dem, format_bytes(s.setup_bytes),
-      format_bytes(s.run_bytes),
-      s.setup_bytes >= s.run_bytes
-          ? ": the peak is at set-up, where every rank builds the whole case"
-          : "");
+      format_bytes(s.run_bytes), s.setup_bytes >= s.run_bytes ? ": the peak is at set-up" : "");
 }
 
 // `sphdem check --ranks P`: the estimate for P ranks, nothing built (the

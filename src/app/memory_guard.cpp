@@ -84,9 +84,7 @@ CaseSize check_case_fits(const Case& c, const Comm& comm, const MemoryLimits& li
         "rank {}: coarsen it or use more nodes",
         format_bytes(need), ranks, format_bytes(need * sharing), sharing, size.resin, size.walls,
         size.dem,
-        size.setup_bytes >= size.run_bytes
-            ? "the peak is at set-up, where every rank builds the whole case"
-            : "the peak is while running",
+        size.setup_bytes >= size.run_bytes ? "the peak is at set-up" : "the peak is while running",
         format_bytes(*per_rank), source);
   }
   // Nodes differ in free memory: the lowest failing rank speaks for all.

@@ -53,9 +53,9 @@ generated from it.
 - **Size estimate.** Before building anything, `check` and `run` estimate
   the particle counts (fill volumes over spacing^D, the mold's boundary
   times the wall layers, fibers times particles per fiber) and each rank's
-  peak memory (at set-up every rank builds every particle and keeps their
-  memory; then its share, its ghosts, its neighbour lists and the
-  top-level cells; `docs/scaling.md`, "Memory per rank"), from
+  peak memory (its share of the particles, its ghosts, its neighbour lists
+  and the top-level cells: each rank builds only its share;
+  `docs/scaling.md`, "Memory per rank"), from
   `estimate_case_size` (`include/sphdem/solver/case_size.hpp`). A case whose
   ranks need more than their share of the node's available memory
   (`MemAvailable` of `/proc/meminfo`, or `--max-memory 16G`, divided by the

@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "initial_fields.hpp"
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/geometry/geometry.hpp"
+#include "sphdem/geometry/lattice_fill.hpp"
 #include "sphdem/sph/eos.hpp"
 
 namespace sphdem {
@@ -70,15 +72,6 @@ Lattice<D> make_lattice(const Case& c, const Box<D>& dom) {
   return L;
 }
 
-template <int D, class F>
-void for_each_node(const Lattice<D>& L, F&& f) {
-  std::array<long, 3> i{0, 0, 0};
-  const long z0 = D == 3 ? L.first[2] : 0, z1 = D == 3 ? L.last[2] : 0;
-  for (i[2] = z0; i[2] <= z1; ++i[2])
-    for (i[1] = L.first[1]; i[1] <= L.last[1]; ++i[1])
-      for (i[0] = L.first[0]; i[0] <= L.last[0]; ++i[0]) f(L.node(i));
-}
-
 // Index of the moving or sliding wall whose region holds p, -1 if none.
 // Moving walls come first, then sliding walls (the solver uses the same order).
 template <int D>
@@ -119,17 +112,27 @@ bool inside_domain(const Box<D>& dom, const Vec<D>& p) {
   return true;
 }
 
-// Hydrostatic start when a body force acts: p = rho0 |g| depth below the
-// highest resin particle along -g, so a column starts at rest.
+// The unit vector against the body force (zero when none acts): a
+// hydrostatic start measures depth along it. Along a periodic axis a body
+// force drives flow, not a column.
 template <int D>
-void hydrostatic_densities(const Case& c, SphParticles<D>& ps, std::size_t n_fluid) {
-  Vec<D> g;  // along a periodic axis a body force drives flow, not a column
+Vec<D> up_direction(const Case& c) {
+  Vec<D> g;
   for (int k = 0; k < D; ++k) g[k] = c.periodic[k] ? 0.0 : c.body_force[k];
   const double gn = g.norm();
-  if (gn == 0.0 || n_fluid == 0) return;
-  const Vec<D> up = -g / gn;
-  double top = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < n_fluid; ++i) top = std::max(top, up.dot(ps.x[i]));
+  return gn == 0.0 ? Vec<D>::Zero() : Vec<D>(-g / gn);
+}
+
+// Hydrostatic start when a body force acts: p = rho0 |g| depth below the
+// highest resin particle along -g (`top`, over every rank), so a column
+// starts at rest.
+template <int D>
+void hydrostatic_densities(const Case& c, SphParticles<D>& ps, std::size_t n_fluid, double top) {
+  Vec<D> g;
+  for (int k = 0; k < D; ++k) g[k] = c.periodic[k] ? 0.0 : c.body_force[k];
+  const double gn = g.norm();
+  if (gn == 0.0 || n_fluid == 0 || !std::isfinite(top)) return;
+  const Vec<D> up = up_direction<D>(c);
   top += 0.5 * c.numerics.spacing;  // the free surface lies half a spacing above
   const TaitEos eos(c.resin.density, c.resin.sound_speed, c.resin.gamma);
   for (std::size_t i = 0; i < n_fluid; ++i) {
@@ -167,53 +170,151 @@ void initial_temperatures(const Case& c, SphParticles<D>& ps) {
 }  // namespace
 
 template <int D>
-InitialCounts build_initial_particles(const Case& c, SphParticles<D>& out) {
-  const Box<D> dom = simulation_domain<D>(c);
-  const Lattice<D> L = make_lattice<D>(c, dom);
-  const double tol = 1e-9 * L.dx;
-  const double wall_reach = c.mold.wall_layers * L.dx + tol;
-  const double rho0 = c.resin.density;
-  const double mass = rho0 * std::pow(L.dx, D);
+struct LatticeFill<D>::Impl {
+  explicit Impl(const Case& kase)
+      : c(kase),
+        dom(simulation_domain<D>(kase)),
+        L(make_lattice<D>(kase, dom)),
+        tol(1e-9 * L.dx),
+        wall_reach(kase.mold.wall_layers * L.dx + tol),
+        mass(kase.resin.density * std::pow(L.dx, D)),
+        up(up_direction<D>(kase)),
+        nx(std::max(0L, L.last[0] - L.first[0] + 1)),
+        ny(std::max(0L, L.last[1] - L.first[1] + 1)) {
+    for (int k = 0; k < D; ++k) v0[k] = kase.initial_velocity[k];
+  }
+  const Case& c;
+  Box<D> dom;
+  Lattice<D> L;
+  double tol, wall_reach, mass;
+  Vec<D> v0, up;
+  long nx, ny;
+};
 
-  std::vector<Vec<D>> fluid, wall;
-  std::vector<std::size_t> fill_of;  // per resin node: the fill shape it is in
-  std::vector<std::size_t> fill_hits(c.fill.size(), 0);
-  for_each_node<D>(L, [&](const Vec<D>& p) {
-    if (!inside_domain<D>(dom, p)) return;
-    if (union_contains<D>(c.mold.shapes, p)) {
-      for (std::size_t f = 0; f < c.fill.size(); ++f) {
-        if (shape_contains<D>(c.fill[f], p, tol)) {
-          fluid.push_back(p);
-          fill_of.push_back(f);
-          ++fill_hits[f];
-          break;
-        }
-      }
-    } else if (union_distance<D>(c.mold.shapes, p) <= wall_reach) {
-      wall.push_back(p);
-    }
-  });
+template <int D>
+LatticeFill<D>::LatticeFill(const Case& c) : impl_(std::make_unique<Impl>(c)) {}
+
+template <int D>
+LatticeFill<D>::~LatticeFill() = default;
+
+template <int D>
+std::int64_t LatticeFill<D>::rows() const {
+  const Impl& m = *impl_;
+  const long nz = D == 3 ? std::max(0L, m.L.last[2] - m.L.first[2] + 1) : 1;
+  return m.nx == 0 ? 0 : static_cast<std::int64_t>(m.ny) * nz;
+}
+
+template <int D>
+long LatticeFill<D>::x_first() const {
+  return impl_->L.first[0];
+}
+
+template <int D>
+long LatticeFill<D>::x_last() const {
+  return impl_->L.last[0];
+}
+
+template <int D>
+std::size_t LatticeFill<D>::fill_shapes() const {
+  return impl_->c.fill.size();
+}
+
+template <int D>
+Vec<D> LatticeFill<D>::node(std::int64_t row, long i) const {
+  const Impl& m = *impl_;
+  std::array<long, 3> n{i, m.L.first[1] + static_cast<long>(row % m.ny), 0};
+  if (D == 3) n[2] = m.L.first[2] + static_cast<long>(row / m.ny);
+  return m.L.node(n);
+}
+
+template <int D>
+NodeClass LatticeFill<D>::classify(const Vec<D>& p) const {
+  const Impl& m = *impl_;
+  if (!inside_domain<D>(m.dom, p)) return {};
+  if (union_contains<D>(m.c.mold.shapes, p)) {
+    for (std::size_t f = 0; f < m.c.fill.size(); ++f)
+      if (shape_contains<D>(m.c.fill[f], p, m.tol)) return {static_cast<int>(f)};
+    return {};
+  }
+  if (union_distance<D>(m.c.mold.shapes, p) <= m.wall_reach) return {NodeClass::kWall};
+  return {};
+}
+
+template <int D>
+void LatticeFill<D>::push(SphParticles<D>& out, std::int64_t gid, const Vec<D>& p, NodeClass cls,
+                          std::vector<std::size_t>& fill_of) const {
+  const Impl& m = *impl_;
+  const double rho0 = m.c.resin.density;
+  if (cls.fluid()) {
+    out.push_owned(gid, Kind::Fluid, -1, m.mass, p, m.v0, rho0);
+    fill_of.push_back(static_cast<std::size_t>(cls.value));
+  } else if (cls.wall()) {
+    out.push_owned(gid, Kind::Wall, wall_index_at<D>(m.c, p, m.tol), m.mass, p, Vec<D>::Zero(),
+                   rho0);
+    out.wall_to_surface.back() = to_mold_surface<D>(m.c.mold.shapes, p, m.L.dx);
+  }
+}
+
+template <int D>
+void LatticeFill<D>::check_fill_hits(const std::vector<std::int64_t>& hits) const {
+  const Case& c = impl_->c;
   for (std::size_t f = 0; f < c.fill.size(); ++f) {
-    if (fill_hits[f] == 0) {
+    if (hits[f] == 0) {
       throw InputError(c.source_file, c.fill[f].line, c.fill[f].key,
                        "fill region holds no lattice node inside the mold (smaller than the "
                        "spacing, or outside the mold)");
     }
   }
+}
 
-  Vec<D> v0;
-  for (int k = 0; k < D; ++k) v0[k] = c.initial_velocity[k];
-  std::int64_t id = 0;
-  for (const Vec<D>& p : fluid) {
-    out.push_owned(id++, Kind::Fluid, -1, mass, p, v0, rho0);
-  }
-  for (const Vec<D>& p : wall) {
-    out.push_owned(id++, Kind::Wall, wall_index_at<D>(c, p, tol), mass, p, Vec<D>::Zero(), rho0);
-    out.wall_to_surface.back() = to_mold_surface<D>(c.mold.shapes, p, L.dx);
-  }
-  hydrostatic_densities<D>(c, out, fluid.size());
+template <int D>
+double LatticeFill<D>::height(const Vec<D>& p) const {
+  const Vec<D>& up = impl_->up;
+  return up.squaredNorm() == 0.0 ? -std::numeric_limits<double>::infinity() : up.dot(p);
+}
+
+template <int D>
+void LatticeFill<D>::finish(SphParticles<D>& out, const std::vector<std::size_t>& fill_of,
+                            double top) const {
+  const Case& c = impl_->c;
+  hydrostatic_densities<D>(c, out, fill_of.size(), top);
   initial_temperatures<D>(c, out);
   apply_initial_fields<D>(c, fill_of, out);
+}
+
+template class LatticeFill<2>;
+template class LatticeFill<3>;
+
+// One rank's whole set: every row, resin numbered first, then walls.
+template <int D>
+InitialCounts build_initial_particles(const Case& c, SphParticles<D>& out) {
+  const LatticeFill<D> lattice(c);
+  std::vector<Vec<D>> fluid, wall;
+  std::vector<NodeClass> fluid_class;
+  std::vector<std::int64_t> hits(lattice.fill_shapes(), 0);
+  for (std::int64_t q = 0; q < lattice.rows(); ++q) {
+    for (long i = lattice.x_first(); i <= lattice.x_last(); ++i) {
+      const Vec<D> p = lattice.node(q, i);
+      const NodeClass cls = lattice.classify(p);
+      if (cls.fluid()) {
+        fluid.push_back(p);
+        fluid_class.push_back(cls);
+        ++hits[static_cast<std::size_t>(cls.value)];
+      } else if (cls.wall()) {
+        wall.push_back(p);
+      }
+    }
+  }
+  lattice.check_fill_hits(hits);
+  std::vector<std::size_t> fill_of;
+  std::int64_t id = 0;
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < fluid.size(); ++k) {
+    lattice.push(out, id++, fluid[k], fluid_class[k], fill_of);
+    top = std::max(top, lattice.height(fluid[k]));
+  }
+  for (const Vec<D>& p : wall) lattice.push(out, id++, p, NodeClass{NodeClass::kWall}, fill_of);
+  lattice.finish(out, fill_of, top);
   return InitialCounts{fluid.size(), wall.size()};
 }
 

@@ -28,6 +28,9 @@ double Comm::sum(double v) const {
 void Comm::sum(std::span<double> v) const {
   MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_SUM, comm_);
 }
+void Comm::sum(std::span<std::int64_t> v) const {
+  MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_INT64_T, MPI_SUM, comm_);
+}
 std::int64_t Comm::sum(std::int64_t v) const {
   return reduce(comm_, v, MPI_INT64_T, MPI_SUM);
 }

@@ -74,18 +74,15 @@ double grid_cells(const Vec<D>& lo, const Vec<D>& hi, double cell) {
 // (decomposition.hpp): its owner (int) and the work per cell (int64) that
 // partitioning sums, twice over.
 constexpr double kBytesPerCell = 4 + 2 * 8;
-// The filling keeps each node's position and its fill shape (a list, then
-// the particles).
-template <int D>
-constexpr double kFillBytes = D * sizeof(double) + sizeof(std::size_t);
 // The resident size of a rank before any particle: code, MPI and HDF5
 // (measured: 36.6 MiB on one rank, 39.0 MiB on each of four, for the plate
 // at spacing 6e-4 m; docs/scaling.md, "Memory per rank").
 constexpr double kProcessBytes = 38.0 * 1024 * 1024;
-// Allocator slack and vector growth over the bytes the particles' fields
-// and lists hold: fitted to the measured peak of the plate at 266k and
-// 586k particles on 1, 2 and 4 ranks (all within 8 %; docs/scaling.md).
-constexpr double kSphOverhead = 1.2;
+// Allocator slack over the bytes the particles' fields and lists hold:
+// fitted to the measured peak of a 2 M particle box at 1, 2, 4 and 8 ranks
+// and the plate at 266k particles at 1, 2 and 4 (all within 20 %;
+// docs/scaling.md, "Memory per rank").
+constexpr double kSphOverhead = 1.1;
 // The fibers' part, measured against `sphdem check`'s peak resident size
 // before the resin's calibration (allocator slack, pair-list growth).
 constexpr double kDemOverhead = 1.6;
@@ -120,18 +117,17 @@ CaseSize estimate(const Case& c, int ranks) {
     // A rank's ghosts: a layer `reach` spacings deep around its share.
     const double ghosts =
         p > 1 ? std::min(n - owned, 2.0 * D * std::pow(owned, (D - 1.0) / D) * reach) : 0.0;
-    // Set-up: every rank builds every particle (issue 14 part 1 is not
-    // done), with the filling's lists. Keeping its share shrinks the
-    // fields' sizes, not their memory: every rank keeps the whole case's
-    // fields for the rest of the run.
-    sph_setup = kSphOverhead * n * (per_particle + kFillBytes<D>);
-    // Running: that, plus for its share and ghosts the neighbour list
-    // (int32 per neighbour) and about a registry's worth again (the sort
-    // by cell, the pair loop's records, halo and snapshot buffers). Fitted
-    // to the measured peak at 1, 2 and 4 ranks (docs/scaling.md).
+    // Set-up (distributed, docs/parallel.md): its share's fields, reserved
+    // to their count, each resin particle's fill shape, and the per-row
+    // counts of the lattice (16 bytes per row: rows are the nodes along x).
+    const double rows = s.lattice_nodes / ((dom.hi[0] - dom.lo[0]) / dx + 1);
+    sph_setup = owned * (per_particle + sizeof(std::size_t)) + 16.0 * rows;
+    // Running: for its share and ghosts the fields, the neighbour list
+    // (int32 per neighbour) and about a registry's worth again (the sort by
+    // cell, the pair loop's records, halo and snapshot buffers). Fitted to
+    // the measured peak at 1 to 8 ranks (docs/scaling.md).
     sph_run =
-        kSphOverhead *
-        (n * per_particle + (owned + ghosts) * (per_particle + neighbours * sizeof(std::int32_t)));
+        kSphOverhead * (owned + ghosts) * (2.0 * per_particle + neighbours * sizeof(std::int32_t));
   }
   if (c.fibers) {
     const FiberSettings& f = *c.fibers;

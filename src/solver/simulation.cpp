@@ -7,6 +7,7 @@
 #include <ostream>
 #include <stdexcept>
 
+#include "distributed_fill.hpp"
 #include "injection_pressure.hpp"
 #include "snapshot_fields.hpp"
 #include "sphdem/core/errors.hpp"
@@ -34,12 +35,10 @@ ResinModule<D>::ResinModule(const RunContext<D>& ctx)
       dec_(comm_, domain_, case_.periodic, std::max(nl_.cutoff(), implicit_chain_reach(case_)),
            max_blocks(comm_.size(), case_.parallel.min_top_cells,
                       case_.parallel.top_cells_per_rank)) {
-  const InitialCounts counts = build_initial_particles<D>(case_, ps_);
+  // Each rank fills only its share, partitioned by the lattice's work.
+  const InitialCounts counts = fill_distributed<D>(case_, dec_, ps_);
   n_fluid_global_ = static_cast<std::int64_t>(counts.fluid);
   n_wall_global_ = static_cast<std::int64_t>(counts.wall);
-  // Every rank built every particle: partition their work, keep our share.
-  dec_.partition(dec_.cell_work(ps_, ps_.n_owned), /*replicated=*/true);
-  dec_.keep_owned(ps_);
   last_imbalance_ = dec_.imbalance(ps_);
   set_wall_velocities(0.0);
   rebuild(/*restart=*/false);

@@ -21,6 +21,7 @@ class Comm {
   double sum(double v) const;
   std::int64_t sum(std::int64_t v) const;
   void sum(std::span<double> v) const;  // element-wise, in place: one allreduce
+  void sum(std::span<std::int64_t> v) const;
   std::int64_t max(std::int64_t v) const;
   std::int64_t min(std::int64_t v) const;
   bool any(bool v) const;
