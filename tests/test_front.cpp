@@ -66,22 +66,22 @@ TEST(AntiClumpAtImpacts, TensionBranchGrowsAsAPairStretches) {
   EXPECT_GT(bracket(900, eps), bracket(950, eps));  // more repulsion when stretched
 }
 
-// The fix: R_a = 0 at a particle the free-surface pass flags, unless
-// numerics.anti_clump_at_surface asks for the published form everywhere.
-TEST(AntiClumpAtImpacts, NoTensionBranchAtSurfaceParticles) {
+// The fix: no anti-clump term for a pair with a particle the free-surface
+// pass flags, unless numerics.anti_clump_at_surface asks for the published
+// form everywhere.
+TEST(AntiClumpAtImpacts, NoTermForPairsWithASurfaceParticle) {
   SphParams sp;
   SphParticles<2> ps;
   ps.push_owned(0, Kind::Fluid, -1, 1e-3, Vec<2>(0, 0), Vec<2>(0, 0), 900);
   ps.push_owned(1, Kind::Fluid, -1, 1e-3, Vec<2>(1e-3, 0), Vec<2>(0, 0), 900);
-  ps.p[0] = ps.p[1] = -5000;
   ps.free_surface[1] = 1;
-  double r[2];
-  for (std::size_t i = 0; i < 2; ++i) terms::field::AntiClumpR::fill<2>(sp, ps, i, &r[i]);
-  EXPECT_DOUBLE_EQ(r[0], 0.2 * 5000 / (900.0 * 900.0));
-  EXPECT_EQ(r[1], 0.0);
+  double on[2];
+  for (std::size_t i = 0; i < 2; ++i) terms::field::AntiClumpOn::fill<2>(sp, ps, i, &on[i]);
+  EXPECT_EQ(on[0], 1.0);
+  EXPECT_EQ(on[1], 0.0);
   sp.anti_clump_at_surface = true;
-  terms::field::AntiClumpR::fill<2>(sp, ps, 1, &r[1]);
-  EXPECT_DOUBLE_EQ(r[1], r[0]);
+  terms::field::AntiClumpOn::fill<2>(sp, ps, 1, &on[1]);
+  EXPECT_EQ(on[1], 1.0);
 }
 
 // Whether the dam break of inputs/validation/dam_break.yaml at artificial
