@@ -50,11 +50,11 @@ TEST(AntiClumpAtImpacts, TensionBranchGrowsAsAPairStretches) {
   const double dp = 1e-3, h = 1.2e-3, eps = 0.2;
   const TaitEos eos(1000, 10);
   const WendlandC2<2> k(h);
-  const double f4 = std::pow(k.w(0.5 * dp) / k.w(dp), 4);
+  const double w_ratio = k.w(0.5 * dp) / k.w(dp);
   const auto bracket = [&](double rho, double e) {
     const double por2 = terms::pressure_over_rho2(eos.pressure(rho), rho);
     const double r = terms::anti_clump_r(e, por2);
-    return 2 * por2 + terms::anti_clump(r, r, por2, por2, f4, 4) * (e > 0 ? 1 : 0);
+    return 2 * por2 + terms::anti_clump(r, r, por2, por2, w_ratio, 4) * (e > 0 ? 1 : 0);
   };
   for (double rho : {950.0, 900.0}) {
     std::printf("[          ] rho = %.0f: bracket %.4g (R off %.4g) m^2/s^2\n", rho,
@@ -66,22 +66,22 @@ TEST(AntiClumpAtImpacts, TensionBranchGrowsAsAPairStretches) {
   EXPECT_GT(bracket(900, eps), bracket(950, eps));  // more repulsion when stretched
 }
 
-// The fix: no anti-clump term for a pair with a particle the free-surface
-// pass flags, unless numerics.anti_clump_at_surface asks for the published
-// form everywhere.
-TEST(AntiClumpAtImpacts, NoTermForPairsWithASurfaceParticle) {
+// The fix: R_a = 0 at a particle the free-surface pass flags, unless
+// numerics.anti_clump_at_surface asks for the published form everywhere.
+TEST(AntiClumpAtImpacts, NoTensionBranchAtSurfaceParticles) {
   SphParams sp;
   SphParticles<2> ps;
   ps.push_owned(0, Kind::Fluid, -1, 1e-3, Vec<2>(0, 0), Vec<2>(0, 0), 900);
   ps.push_owned(1, Kind::Fluid, -1, 1e-3, Vec<2>(1e-3, 0), Vec<2>(0, 0), 900);
+  ps.p[0] = ps.p[1] = -5000;
   ps.free_surface[1] = 1;
-  double on[2];
-  for (std::size_t i = 0; i < 2; ++i) terms::field::AntiClumpOn::fill<2>(sp, ps, i, &on[i]);
-  EXPECT_EQ(on[0], 1.0);
-  EXPECT_EQ(on[1], 0.0);
+  double r[2];
+  for (std::size_t i = 0; i < 2; ++i) terms::field::AntiClumpR::fill<2>(sp, ps, i, &r[i]);
+  EXPECT_DOUBLE_EQ(r[0], 0.2 * 5000 / (900.0 * 900.0));
+  EXPECT_EQ(r[1], 0.0);
   sp.anti_clump_at_surface = true;
-  terms::field::AntiClumpOn::fill<2>(sp, ps, 1, &on[1]);
-  EXPECT_EQ(on[1], 1.0);
+  terms::field::AntiClumpR::fill<2>(sp, ps, 1, &r[1]);
+  EXPECT_DOUBLE_EQ(r[1], r[0]);
 }
 
 // Whether the dam break of inputs/validation/dam_break.yaml at artificial
@@ -101,14 +101,15 @@ double dam_break_reaches(double t_end, bool at_surface) {
   return sim.time();
 }
 
-// The published form at the surface blows up at t = 0.19 s (a particle
-// leaves through the floor); without the tension branch at surface
-// particles the same run passes that time (with margin), shifting off.
+// The published form blows up at t = 0.123 s (a particle leaves through
+// the left wall); without the tension branch at surface particles the same
+// run, shifting off, passes 0.3 s (it fails at 0.363 s: tension inside the
+// splash, docs/physics.md "Momentum").
 TEST(AntiClumpAtImpacts, DamBreakAtAlpha002RunsWithoutShifting) {
-  const double t_end = 0.26;
+  const double t_end = 0.3;
   const double published = dam_break_reaches(t_end, true);
   std::printf("[          ] published form: stopped at t = %.4f s\n", published);
-  EXPECT_LT(published, 0.2);
+  EXPECT_LT(published, 0.15);
   const double fixed = dam_break_reaches(t_end, false);
   std::printf("[          ] off at the surface: reached t = %.4f s\n", fixed);
   EXPECT_GE(fixed, t_end * (1 - 1e-9));
@@ -116,24 +117,27 @@ TEST(AntiClumpAtImpacts, DamBreakAtAlpha002RunsWithoutShifting) {
 
 // --- weld lines and trapped air --------------------------------------------------------
 
-// inputs/validation/weld_line.yaml: the fronts meet on x = 25 mm at 10 ms.
+// inputs/validation/weld_line.yaml: the fronts meet on x = 25 mm from
+// 8.5 ms (their free surfaces run a little ahead of the blocks); the notch
+// is closed from then until 11 ms, when the resin has filled it.
 Case weld_case() {
   return testing::load_input("validation/weld_line.yaml");
 }
 
 constexpr double kMeetX = 0.025;
+constexpr double kClosed = 0.0095;  // s: the notch is a closed pocket
 
 TEST(WeldLines, TwoFrontsMakeAWeldLineOnTheMeetingPlane) {
   const Case c = weld_case();
   const double dp = c.numerics.spacing;
   const Comm self(MPI_COMM_SELF);
   Simulation<2> sim(c, self, quiet());
-  testing::run_until(sim, 0.008);
+  testing::run_until(sim, 0.007);
   std::vector<FrontEvent> before = sim.front_events();
   std::size_t welds = 0;
   for (const FrontEvent& e : before) welds += e.kind == FrontEvent::Kind::WeldLine;
   EXPECT_EQ(welds, 0u) << "a weld line before the fronts met";
-  testing::run_until(sim, 0.012);
+  testing::run_until(sim, kClosed);
   double lo = 1, hi = -1, y_lo = 1, y_hi = -1;
   welds = 0;
   for (const FrontEvent& e : sim.front_events()) {
@@ -143,8 +147,12 @@ TEST(WeldLines, TwoFrontsMakeAWeldLineOnTheMeetingPlane) {
     hi = std::max(hi, e.x[0]);
     y_lo = std::min(y_lo, e.x[1]);
     y_hi = std::max(y_hi, e.x[1]);
-    EXPECT_NEAR(e.x[0], kMeetX, dp) << "weld at y = " << e.x[1] << ", t = " << e.time;
-    EXPECT_GT(e.time, 0.008);
+    // Inside the notch the resin that flows in welds onto its back face.
+    const bool in_notch = e.x[1] > 0.007 - dp && e.x[1] < 0.013 + dp;
+    if (!in_notch) {
+      EXPECT_NEAR(e.x[0], kMeetX, dp) << "weld at y = " << e.x[1] << ", t = " << e.time;
+    }
+    EXPECT_GT(e.time, 0.007);
   }
   std::printf("[          ] %zu weld events, x in [%.3f, %.3f] mm, y in [%.3f, %.3f] mm\n", welds,
               lo * 1e3, hi * 1e3, y_lo * 1e3, y_hi * 1e3);
@@ -166,7 +174,7 @@ TEST(TrappedAir, TheNotchClosedByTheOtherFrontIsOnePocket) {
   std::size_t pockets = 0;
   for (const FrontEvent& e : sim.front_events()) pockets += e.kind == FrontEvent::Kind::TrappedAir;
   EXPECT_EQ(pockets, 0u) << "the open notch at t = 0";
-  testing::run_until(sim, 0.012);
+  testing::run_until(sim, kClosed);
   std::vector<FrontEvent> air;
   for (const FrontEvent& e : sim.front_events())
     if (e.kind == FrontEvent::Kind::TrappedAir) air.push_back(e);
@@ -201,7 +209,7 @@ std::vector<double> flatten(const std::vector<FrontEvent>& events) {
 
 WeldState run_weld(const Comm& comm) {
   Simulation<2> sim(weld_case(), comm, quiet());
-  testing::run_until(sim, 0.012);
+  testing::run_until(sim, kClosed);
   WeldState s;
   s.events = flatten(sim.front_events());
   std::vector<Row> mine;

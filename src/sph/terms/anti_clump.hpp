@@ -6,12 +6,12 @@
 // It adds a short-range repulsion that stops particles pairing up where
 // the pressure is negative.
 // Not at the free surface (numerics.anti_clump_at_surface off, the
-// default): no term for a pair with a particle the free-surface pass
-// flags. A thinning front or splash goes into tension only because its
-// continuity density falls (a real surface is at the ambient pressure);
-// there R grows as the pair stretches and pushes it further apart, a
-// runaway that nothing outside the resin contains: impacts blew up
-// (docs/physics.md, "Momentum"; tests/test_front.cpp, AntiClumpAtImpacts).
+// default): R_a = 0 at a particle the free-surface pass flags. A thinning
+// front or splash goes into tension only because its continuity density
+// falls (a real surface is at the ambient pressure), and there R_a, up to
+// eps B / rho^2, times f^n (up to 110 at r -> 0) makes a pair force stiffer
+// than the sound speed the step resolves: impacts blew up (docs/physics.md,
+// "Momentum"; tests/test_front.cpp, AntiClumpAtImpacts).
 // Written with selects instead of branches so that the pair loop vectorizes.
 // Case-file switches: numerics.anti_clump, anti_clump_epsilon,
 // anti_clump_exponent (n = 4 is a compile-time fast path, f^4 = (f^2)^2).
@@ -45,28 +45,20 @@ inline double anti_clump(double r_i, double r_j, double por2_i, double por2_j, d
 }
 
 namespace field {
-// R_a, prepared once per particle.
+// R_a, prepared once per particle (0 on the free surface unless asked).
 struct AntiClumpR : ScalarField {
   static constexpr const char* name = "anti_clump_r";
   template <int D>
   static void fill(const SphParams& sp, const SphParticles<D>& ps, std::size_t i, double* out) {
-    out[0] = anti_clump_r(sp.anti_clump_eps, pressure_over_rho2(ps.p[i], ps.rho[i]));
-  }
-};
-// 0 on the free surface (unless numerics.anti_clump_at_surface), else 1:
-// a pair with a surface particle gets no anti-clump term.
-struct AntiClumpOn : ScalarField {
-  static constexpr const char* name = "anti_clump_on";
-  template <int D>
-  static void fill(const SphParams& sp, const SphParticles<D>& ps, std::size_t i, double* out) {
-    out[0] = !sp.anti_clump_at_surface && ps.free_surface[i] != 0.0 ? 0.0 : 1.0;
+    const bool off = !sp.anti_clump_at_surface && ps.free_surface[i] != 0.0;
+    out[0] = off ? 0.0 : anti_clump_r(sp.anti_clump_eps, pressure_over_rho2(ps.p[i], ps.rho[i]));
   }
 };
 }  // namespace field
 
 struct AntiClump {
   static constexpr const char* name = "anti_clump";
-  using Reads = Fields<field::PoR2, field::AntiClumpR, field::AntiClumpOn>;
+  using Reads = Fields<field::PoR2, field::AntiClumpR>;
   static constexpr unsigned writes = kBracket;
   static bool active(const SphParams& sp) { return sp.anti_clump; }
   // Variant 0: n = 4, f^4 = (f^2)^2. Variant 1: any n.
@@ -91,11 +83,10 @@ struct AntiClump {
     } else {
       f = anti_clump_power(w_ratio, n);
     }
-    const double on = p.own_value(field::AntiClumpOn{}) * p.lane(field::AntiClumpOn{});
     s.bracket +=
         anti_clump_coefficient(p.own_value(field::AntiClumpR{}), p.lane(field::AntiClumpR{}),
                                p.own_value(field::PoR2{}), p.lane(field::PoR2{})) *
-        f * on;
+        f;
   }
 };
 
