@@ -124,7 +124,9 @@ std::vector<AirPocket> find_air_pockets(const VoidGrid<D>& g, const std::vector<
         }
       }
     }
-    if (open) continue;
+    // Smaller than one spacing^D (2^D cells): the noise of a particle
+    // lifting off a wall, not a pocket.
+    if (open || count < (std::int64_t{1} << D)) continue;
     AirPocket p;
     for (int d = 0; d < D; ++d) p.centroid[d] = sum[d] / static_cast<double>(count);
     p.size = static_cast<double>(count) * cell_size;
