@@ -61,8 +61,7 @@ struct AirPocket {
 
 // The connected empty regions (neither resin nor wall, face neighbours)
 // that touch no wall cell and not the grid's border: air closed in by
-// resin alone, at least one spacing^D in size. In the order of their first
-// cell (deterministic).
+// resin alone. In the order of their first cell (deterministic).
 template <int D>
 std::vector<AirPocket> find_air_pockets(const VoidGrid<D>& g, const std::vector<double>& marks);
 
