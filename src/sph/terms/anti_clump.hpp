@@ -8,9 +8,9 @@
 // Not at the free surface (numerics.anti_clump_at_surface off, the
 // default): R_a = 0 at a particle the free-surface pass flags. A thinning
 // front or splash goes into tension only because its continuity density
-// falls (a real surface is at the ambient pressure), and there R_a, up to
-// eps B / rho^2, times f^n (up to 110 at r -> 0) makes a pair force stiffer
-// than the sound speed the step resolves: impacts blew up (docs/physics.md,
+// falls (a real surface is at the ambient pressure); there R grows as the
+// pair stretches and pushes it further apart, a runaway that nothing
+// outside the resin contains: impacts blew up (docs/physics.md,
 // "Momentum"; tests/test_front.cpp, AntiClumpAtImpacts).
 // Written with selects instead of branches so that the pair loop vectorizes.
 // Case-file switches: numerics.anti_clump, anti_clump_epsilon,
