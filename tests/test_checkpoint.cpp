@@ -435,7 +435,7 @@ TEST(Checkpoint, ColumnsRoundTripAContainer) {
   std::vector<std::string> names;
   for (const auto& c : cols) names.push_back(c.name);
   EXPECT_EQ(names, (std::vector<std::string>{"gid", "kind", "wall", "mass", "wall_to_surface", "x",
-                                             "v", "rho", "a", "drho", "viscosity"}));
+                                             "v", "rho", "weld_line", "a", "drho", "viscosity"}));
   EXPECT_EQ(cols[5].type, ColumnType::F64);
   EXPECT_EQ(cols[5].components, 2);
   EXPECT_EQ(cols[1].type, ColumnType::U8);
@@ -448,7 +448,7 @@ TEST(Checkpoint, ColumnsRoundTripAContainer) {
     EXPECT_EQ(back.x[i], ps.x[i]);
     EXPECT_EQ(back.drho[i], ps.drho[i]);
   }
-  cols[8].row_bytes = 4;  // another build's record size
+  cols[9].row_bytes = 4;  // another build's record size (of a)
   EXPECT_THROW(assign_checkpoint_columns(back, cols, 5, "test"), InputError);
 }
 

@@ -221,13 +221,13 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   EXPECT_EQ(
       sph_output_fields(),
       (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "temperature", "frozen",
-                                "pressure", "acceleration", "shear_rate", "viscosity",
+                                "weld_line", "pressure", "acceleration", "shear_rate", "viscosity",
                                 "free_surface", "surface_normal", "position_divergence"}));
   std::vector<std::string> sph, dem;
   for (const CheckpointColumn& c : checkpoint_columns(SphParticles<2>{})) sph.push_back(c.name);
   for (const CheckpointColumn& c : checkpoint_columns(DemParticles<2>{})) dem.push_back(c.name);
   EXPECT_EQ(sph, (std::vector<std::string>{"gid", "kind", "wall", "mass", "wall_to_surface", "x",
-                                           "v", "rho", "a", "drho", "viscosity"}));
+                                           "v", "rho", "weld_line", "a", "drho", "viscosity"}));
   EXPECT_EQ(dem, (std::vector<std::string>{"gid",
                                            "fiber",
                                            "fixed",

@@ -455,6 +455,9 @@ TEST(SphPasses, APassRunsBeforeTheLoopWhenAnActiveTermReadsIt) {
 // The library's passes: the shear rate runs when output.fields names it.
 TEST(SphPasses, TheShearRateRunsWhenRequested) {
   SphParams sp = base_params();
+  // The anti-clump term off the free surface (the default) needs the
+  // free-surface pass (tests/test_front.cpp); here the published form.
+  sp.anti_clump_at_surface = true;
   EXPECT_TRUE(terms::needed_passes<SphTerms>(sp, terms::SphPasses{}).empty());
   sp.output_fields = {"velocity", "shear_rate"};
   EXPECT_EQ(terms::needed_passes<SphTerms>(sp, terms::SphPasses{}),
@@ -466,6 +469,19 @@ TEST(SphPasses, TheShearRateRunsWhenRequested) {
   sp.variable_viscosity = true;
   EXPECT_EQ(terms::needed_passes<SphTerms>(sp, terms::SphPasses{}),
             std::vector<std::string>{"shear_rate"});
+}
+
+// The anti-clump term reads the free-surface flag (R_a = 0 there) unless
+// numerics.anti_clump_at_surface: the free-surface pass then runs.
+TEST(SphPasses, TheAntiClumpTermNeedsTheFreeSurface) {
+  SphParams sp = base_params();
+  EXPECT_EQ(terms::needed_passes<SphTerms>(sp, terms::SphPasses{}),
+            std::vector<std::string>{"free_surface"});
+  sp.anti_clump_at_surface = true;
+  EXPECT_TRUE(terms::needed_passes<SphTerms>(sp, terms::SphPasses{}).empty());
+  sp.front_events = true;
+  EXPECT_EQ(terms::needed_passes<SphTerms>(sp, terms::SphPasses{}),
+            std::vector<std::string>{"free_surface"});
 }
 
 }  // namespace

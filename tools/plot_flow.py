@@ -15,6 +15,7 @@ with one panel per time.
 examples:
   tools/plot_flow.py out/plate_fibers_3.8 --time 0.02 --time 0.025 --panel -o fig7.png
   tools/plot_flow.py out/plate_fibers_3.8 --all -o frames/flow_{t}.png
+  tools/plot_flow.py out/weld_line --all --weld --field pressure -o weld_{t}.png
   tools/plot_flow.py out/corners_fibers_3.8 --time 0.06 --time 0.08 --outline \\
       --xlim -30 30 --ylim -22 6 --range 0 1.5 -o corners.png
 """
@@ -50,6 +51,8 @@ def draw(ax, snap, a, case, vrange):
             c = np.linalg.norm(c, axis=1)
         sc = ax.scatter(x[:, 0] / MM, x[:, 1] / MM, s=a.size, c=c, cmap=a.cmap,
                         vmin=vrange[0], vmax=vrange[1], linewidths=0, rasterized=True)
+    if a.weld:
+        draw_front_events(ax, snap, a)
     fibers = snap.fibers(required=False)
     if fibers is not None and not a.no_fibers:
         io.draw_fibers(ax, fibers, color=a.fiber_color, lw=a.fiber_width)
@@ -70,6 +73,34 @@ def draw(ax, snap, a, case, vrange):
     n = fibers.count if fibers is not None else 0
     ax.set_title("t = %.4g s%s" % (snap.time, ", %d fibers" % n if n else ""), fontsize=10)
     return sc
+
+
+def front_events_csv(a):
+    """<output>/<case>_front_events.csv of the run, or None."""
+    directory = a.path if os.path.isdir(a.path) else os.path.dirname(a.path) or "."
+    names = [f for f in sorted(os.listdir(directory)) if f.endswith("_front_events.csv")]
+    return os.path.join(directory, names[0]) if names else None
+
+
+def draw_front_events(ax, snap, a):
+    """--weld: the resin particles flagged weld_line (black) and the
+    trapped-air pockets listed at this snapshot's time (red circles)."""
+    weld = snap.read("fluid/weld_line", required=False)
+    if weld is None:
+        raise io.ToolError("%s: no /fluid/weld_line (run with output.front_events: true and "
+                           "weld_line in output.fields)" % snap.path)
+    x = snap.read("fluid/position")[weld > 0]
+    ax.scatter(x[:, 0] / MM, x[:, 1] / MM, s=a.size * 2, c="k", linewidths=0, label="weld line")
+    path = front_events_csv(a)
+    if path is None:
+        return
+    import csv
+    with open(path) as f:
+        for row in csv.DictReader(f):
+            if row["kind"] == "trapped_air" and abs(float(row["time_s"]) - snap.time) < 1e-9 + 1e-6 * snap.time:
+                r = math.sqrt(float(row["size"]) / math.pi) if snap.dimension == 2 else 0.5e-3
+                ax.add_patch(io.pyplot().Circle((float(row["x_m"]) / MM, float(row["y_m"]) / MM),
+                                                max(r / MM, 0.3), fill=False, color="r", lw=1.5))
 
 
 def extent(snap, a):
@@ -121,6 +152,9 @@ def main():
     ap.add_argument("--no-fibers", action="store_true", help="do not draw the fibers")
     ap.add_argument("--fiber-color", default="white", help="fiber colour (default white)")
     ap.add_argument("--fiber-width", type=float, default=1.2, help="fiber line width (default 1.2)")
+    ap.add_argument("--weld", action="store_true",
+                    help="mark the weld-line particles (black) and the trapped-air pockets of "
+                         "<case>_front_events.csv (red circles); needs output.front_events")
     ap.add_argument("--size", type=float, default=1.5, help="resin marker size (default 1.5)")
     ap.add_argument("--cmap", default="jet", help="colour map (default jet, the paper's)")
     ap.add_argument("--dpi", type=int, default=130)

@@ -53,6 +53,9 @@ Section<Output> make_output() {
       optional_integer("every_steps", "", 1, &Output::every_steps, "steps between snapshots"),
       fields(),
       integer("progress_every", "", 1, &Output::progress_every, "steps between progress lines"),
+      boolean("front_events", &Output::front_events,
+              "detect weld lines (the particle field `weld_line`) and trapped-air pockets; "
+              "both listed in `<output>/<name>_front_events.csv`; see `docs/physics.md`"),
   };
   s.finish = finish_output;
   s.notes =

@@ -250,6 +250,11 @@ Section<Numerics> make_numerics() {
       integer("anti_clump_exponent", "", 1, &N::anti_clump_exponent,
               "exponent of the anti-clump term")
           .identity(),
+      unless_default(boolean("anti_clump_at_surface", &N::anti_clump_at_surface,
+                             "the anti-clump term's tension branch at free-surface particles "
+                             "too (Monaghan 2000 as published); off: not there, which keeps "
+                             "impacts stable; see `docs/physics.md`")
+                         .identity()),
       unless_default(
           boolean("particle_shifting", &N::particle_shifting,
                   "shift resin particles down the gradient of their concentration (Lind et al. "

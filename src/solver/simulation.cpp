@@ -5,9 +5,11 @@
 #include <cmath>
 #include <memory>
 #include <ostream>
+#include <span>
 #include <stdexcept>
 
 #include "distributed_fill.hpp"
+#include "front_events_output.hpp"
 #include "injection_pressure.hpp"
 #include "snapshot_fields.hpp"
 #include "sphdem/core/errors.hpp"
@@ -161,6 +163,51 @@ void ResinModule<D>::rates() {
   });
   compute_fluid_rates<D>(sp_, nl_, ps_);
   if (sp_.thermal) compute_heat_rates<D>(sp_, nl_, ps_);
+  if (case_.output.front_events) {
+    for (const WeldMark<D>& w : mark_weld_lines<D>(sp_, nl_, ps_)) {
+      weld_events_.push_back({ps_.gid[w.i], 0, time});
+      for (int d = 0; d < D; ++d) weld_events_.push_back({ps_.gid[w.i], d + 1, w.at[d]});
+    }
+  }
+}
+
+template <int D>
+std::vector<FrontEvent> ResinModule<D>::collect_front_events(bool pockets) {
+  std::vector<FrontEvent> events;
+  if (!case_.output.front_events) return events;
+  const std::vector<OrderedTerm> all = gather_terms(comm_, weld_events_);
+  weld_events_.clear();
+  for (const OrderedTerm& t : all) {  // sorted by (id, key): key 0 starts an event
+    if (t.key == 0)
+      events.push_back({FrontEvent::Kind::WeldLine, t.value, {}, t.order, 0.0});
+    else
+      events.back().x[static_cast<std::size_t>(t.key - 1)] = t.value;
+  }
+  std::stable_sort(events.begin(), events.end(),
+                   [](const FrontEvent& a, const FrontEvent& b) { return a.time < b.time; });
+  if (!pockets) return events;
+  const VoidGrid<D> grid = make_void_grid<D>(domain_, sp_.spacing);
+  std::vector<double> marks;
+  mark_void_grid<D>(grid, sp_.spacing, ps_, marks);
+  {
+    ScopedPhase t(timers_, Phase::Wait);
+    comm_.sum(std::span<double>(marks));
+  }
+  std::int64_t k = 0;
+  for (const AirPocket& p : find_air_pockets<D>(grid, marks))
+    events.push_back({FrontEvent::Kind::TrappedAir, ctx_.clock.time, p.centroid, k++, p.size});
+  return events;
+}
+
+template <int D>
+void ResinModule<D>::write_front_events(bool pockets) {
+  if (!case_.output.front_events) return;
+  const std::vector<FrontEvent> events = collect_front_events(pockets);
+  if (comm_.root() && ctx_.options.write_output) {
+    append_front_events(ctx_.options.output_dir, case_.name, ctx_.clock.time, events,
+                        !front_series_started_);
+  }
+  front_series_started_ = true;
 }
 
 template <int D>
@@ -275,6 +322,7 @@ void ResinModule<D>::snapshot(SnapshotParts& parts) {
                               walls_, !pressure_series_started_);
   }
   pressure_series_started_ = true;
+  write_front_events(true);
 }
 
 // The piston (the last moving wall): its speed and face pressure, the

@@ -16,6 +16,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "front_events_output.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/io/checkpoint.hpp"
 #include "sphdem/solver/resin_module.hpp"
@@ -44,6 +45,7 @@ std::string wall_names(const std::vector<WallMotion>& walls) {
 
 template <int D>
 void ResinModule<D>::write_checkpoint(CheckpointWriter& w) {
+  write_front_events(false);  // the weld lines so far: a restart continues the list
   w.attribute("last_balance_step", last_balance_step_);
   w.attribute("repartitions", repartitions_);
   std::vector<double> scale, face;
@@ -146,6 +148,10 @@ void ResinModule<D>::restarted() {
     ps_.v_half[i] = ps_.v[i];
   }
   last_imbalance_ = dec_.imbalance(ps_);
+  // The front events list continues after the checkpoint's time.
+  if (case_.output.front_events && comm_.root() && ctx_.options.write_output)
+    append_front_events(ctx_.options.output_dir, case_.name, ctx_.clock.time, {}, true);
+  front_series_started_ = true;
 }
 
 template void ResinModule<2>::write_checkpoint(CheckpointWriter&);

@@ -26,6 +26,8 @@ SphParams make_sph_params(const Case& c) {
   sp.anti_clump = c.numerics.anti_clump;
   sp.anti_clump_eps = c.numerics.anti_clump_epsilon;
   sp.anti_clump_n = c.numerics.anti_clump_exponent;
+  sp.anti_clump_at_surface = c.numerics.anti_clump_at_surface;
+  sp.front_events = c.output.front_events;
   sp.eta2 = 0.01 * sp.h * sp.h;
   sp.shifting = c.numerics.particle_shifting ? c.numerics.shifting_coefficient : 0.0;
   sp.wall_repulsion = c.numerics.wall_repulsion;

@@ -89,6 +89,9 @@ struct Numerics {
   bool anti_clump = true;             // Monaghan (2000) tensile-instability term
   double anti_clump_epsilon = 0.2;
   int anti_clump_exponent = 4;
+  // The tension branch at free-surface particles too (Monaghan 2000 as
+  // published); off: R_a = 0 where the free-surface pass flags a particle.
+  bool anti_clump_at_surface = false;
   // Particle shifting (Lind et al. 2012; Skillen et al. 2013), free-surface aware.
   bool particle_shifting = false;
   double shifting_coefficient = 2.0;
@@ -195,6 +198,8 @@ struct Output {
   std::optional<int> every_steps;
   std::vector<std::string> fields{"velocity", "density", "pressure"};
   int progress_every = 100;
+  // Weld lines and trapped air (docs/physics.md "Weld lines and trapped air").
+  bool front_events = false;
 };
 
 // Dynamic load balancing (docs/parallel.md).

@@ -35,7 +35,8 @@ namespace sphdem {
 // 2: the wall particles' wall_to_surface (slip walls).
 // 3: the resin's viscosity column (a viscosity law's time step reads it).
 // 4: the fibers' hydrodynamic torque state (torque_coeff, resin_spin, ...).
-inline constexpr int kCheckpointFormat = 4;
+// 5: the resin's weld_line flag (output.front_events).
+inline constexpr int kCheckpointFormat = 5;
 
 enum class ColumnType : int { F64 = 0, I64 = 1, I32 = 2, U8 = 3, Bytes = 4 };
 

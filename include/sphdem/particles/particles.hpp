@@ -62,6 +62,8 @@ enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2, Fr
   X(double, dtemp, kMigrate) /* dT/dt [K/s] (owned resin) */                                      \
   /* 1: below the no-flow temperature this step (holds its position) */                           \
   X(std::int32_t, frozen, kMigrate | output_as("frozen", "1"))                                    \
+  /* 1 once two front segments met here (output.front_events, src/sph/front_events.cpp) */        \
+  X(std::int32_t, weld_line, kMigrate | kCheckpoint | output_as("weld_line", "1"))                \
   /* Derived every rate evaluation. */                                                            \
   /* pressure; walls: extrapolated */                                                             \
   X(double, p, kGhost | in_group(SphGroup::WallState) | output_as("pressure", "Pa"))              \

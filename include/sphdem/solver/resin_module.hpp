@@ -16,8 +16,10 @@
 #include "sphdem/neighbor/neighbor.hpp"
 #include "sphdem/parallel/decomposition.hpp"
 #include "sphdem/parallel/halo.hpp"
+#include "sphdem/parallel/ordered_sum.hpp"
 #include "sphdem/particles/particles.hpp"
 #include "sphdem/solver/run.hpp"
+#include "sphdem/sph/front_events.hpp"
 #include "sphdem/sph/sph.hpp"
 
 namespace sphdem {
@@ -56,12 +58,19 @@ class ResinModule final : public Module<D> {
   double last_imbalance() const { return last_imbalance_; }
   std::int64_t repartitions() const { return repartitions_; }
   const Decomposition<D>& decomposition() const { return dec_; }
+  // Collective (output.front_events): the weld-line events since the last
+  // call, by time then particle id, and (pockets) the trapped-air pockets
+  // now; the same list on every rank at every rank count. Snapshots (with
+  // pockets) and checkpoints (without) append it to
+  // <output>/<case>_front_events.csv.
+  std::vector<FrontEvent> collect_front_events(bool pockets = true);
 
  private:
   void maybe_rebalance();
   std::vector<std::int64_t> cell_work() const;
   std::vector<double> face_means(const std::vector<WallFaceSample>& face);
   void set_wall_velocities(double t);
+  void write_front_events(bool pockets);
 
   const RunContext<D>& ctx_;
   const Case& case_;
@@ -80,6 +89,10 @@ class ResinModule final : public Module<D> {
   double last_imbalance_ = 0;
   std::int64_t repartitions_ = 0;
   bool pressure_series_started_ = false;  // the injection pressure CSV of this run
+  // Weld lines flagged since the last collect_front_events: per particle
+  // (order = id) the time (key 0) and the position (keys 1..D).
+  std::vector<OrderedTerm> weld_events_;
+  bool front_series_started_ = false;  // the front events CSV of this run
 };
 
 }  // namespace sphdem

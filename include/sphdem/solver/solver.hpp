@@ -26,6 +26,9 @@ class Simulation : public Run<D> {
   double last_imbalance() const { return this->resin()->last_imbalance(); }
   std::int64_t repartitions() const { return this->resin()->repartitions(); }
   const Decomposition<D>& decomposition() const { return this->resin()->decomposition(); }
+  // Collective, with output.front_events: weld lines since the last call
+  // and the trapped-air pockets now (ResinModule::collect_front_events).
+  std::vector<FrontEvent> front_events() { return this->resin()->collect_front_events(); }
   // The fibers of a coupled case (null without `fibers:`), docs/physics.md.
   const DemDomain<D>* dem() const { return this->fibers() ? &this->fibers()->dem() : nullptr; }
   const FiberPlacement& placement() const;

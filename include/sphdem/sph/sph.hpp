@@ -35,9 +35,11 @@ struct SphParams {
   bool anti_clump = true;
   double anti_clump_eps = 0.2;
   int anti_clump_n = 4;
-  double eta2 = 0;              // 0.01 h^2, keeps 1/r^2 terms finite
-  double shifting = 0;          // particle shifting coefficient A (0: off)
-  bool wall_repulsion = false;  // Monaghan (1994) wall force (wall_repulsion.cpp)
+  bool anti_clump_at_surface = false;  // the tension branch on surface particles too
+  bool front_events = false;           // weld-line flags (front_events.cpp) need the surface
+  double eta2 = 0;                     // 0.01 h^2, keeps 1/r^2 terms finite
+  double shifting = 0;                 // particle shifting coefficient A (0: off)
+  bool wall_repulsion = false;         // Monaghan (1994) wall force (wall_repulsion.cpp)
   Vec3a body_force{};
   WallSlipLaw mold_wall;  // the condition of the fixed mold walls (wall index -1)
   // Temperature (resin.thermal, docs/physics.md "Temperature"); off: T is

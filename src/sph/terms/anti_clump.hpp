@@ -5,6 +5,13 @@
 //   when both pressures are positive R_ij = 0.01 (P_i/rho_i^2 + P_j/rho_j^2).
 // It adds a short-range repulsion that stops particles pairing up where
 // the pressure is negative.
+// Not at the free surface (numerics.anti_clump_at_surface off, the
+// default): R_a = 0 at a particle the free-surface pass flags. A thinning
+// front or splash goes into tension only because its continuity density
+// falls (a real surface is at the ambient pressure); there R grows as the
+// pair stretches and pushes it further apart, a runaway that nothing
+// outside the resin contains: impacts blew up (docs/physics.md,
+// "Momentum"; tests/test_front.cpp, AntiClumpAtImpacts).
 // Written with selects instead of branches so that the pair loop vectorizes.
 // Case-file switches: numerics.anti_clump, anti_clump_epsilon,
 // anti_clump_exponent (n = 4 is a compile-time fast path, f^4 = (f^2)^2).
@@ -38,12 +45,13 @@ inline double anti_clump(double r_i, double r_j, double por2_i, double por2_j, d
 }
 
 namespace field {
-// R_a, prepared once per particle.
+// R_a, prepared once per particle (0 on the free surface unless asked).
 struct AntiClumpR : ScalarField {
   static constexpr const char* name = "anti_clump_r";
   template <int D>
   static void fill(const SphParams& sp, const SphParticles<D>& ps, std::size_t i, double* out) {
-    out[0] = anti_clump_r(sp.anti_clump_eps, pressure_over_rho2(ps.p[i], ps.rho[i]));
+    const bool off = !sp.anti_clump_at_surface && ps.free_surface[i] != 0.0;
+    out[0] = off ? 0.0 : anti_clump_r(sp.anti_clump_eps, pressure_over_rho2(ps.p[i], ps.rho[i]));
   }
 };
 }  // namespace field

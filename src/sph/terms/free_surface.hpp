@@ -46,8 +46,12 @@ struct FreeSurfacePass {
   static std::vector<double>& output(SphParticles<D>& ps) {
     return ps.free_surface;
   }
-  // Particle shifting needs it even when no term reads it.
-  static bool needed(const SphParams& sp) { return sp.shifting > 0.0; }
+  // Particle shifting, the anti-clump term (off at the surface) and the
+  // weld-line detection need it even when no term reads it.
+  static bool needed(const SphParams& sp) {
+    const bool anti_clump = sp.anti_clump && sp.anti_clump_eps > 0.0 && !sp.anti_clump_at_surface;
+    return sp.shifting > 0.0 || anti_clump || sp.front_events;
+  }
 
   double kw, inv_w_dp;  // W = kw t^4 (1 + 2q); 1 / W(dp)
   template <int D>

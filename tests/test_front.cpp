@@ -1,0 +1,260 @@
+// The flow front (issue 18 part 5, docs/physics.md "Momentum" (the
+// anti-clump term at the free surface), "Weld lines and trapped air"):
+// the anti-clump instability at impacts, weld lines where two fronts meet,
+// a trapped-air pocket, and both at 1 and 2 ranks bitwise.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "../src/sph/terms/anti_clump.hpp"
+#include "mpi_test_helpers.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/sph/eos.hpp"
+#include "sphdem/sph/kernel.hpp"
+#include "validation_helpers.hpp"
+
+namespace sphdem {
+namespace {
+
+RunOptions quiet() {
+  RunOptions opt;
+  opt.write_output = false;
+  return opt;
+}
+
+const Comm& world() {
+  static const Comm c;
+  return c;
+}
+
+// --- the anti-clump term at impacts ---------------------------------------------------
+
+// By hand, a pair of resin particles in tension at r = 0.5 dp (a front or a
+// splash thinning: its continuity density below rho0), the dam break's
+// parameters (c0 = 10 m/s, rho0 = 1000, h = 1.2 dp). The momentum bracket
+// of the pair is 2 P/rho^2 + R_ij f^4, R_ij = 2 eps |P|/rho^2 (Monaghan 2000).
+// Without R the bracket is negative (attraction) and grows in magnitude as
+// the pair stretches (rho falls): restoring. With R it is positive (the
+// repulsion that keeps pairs apart) and it too grows as rho falls: the pair
+// pushes itself further into tension, a runaway that nothing in a free
+// splash contains (in the bulk the pressure of the neighbours does).
+TEST(AntiClumpAtImpacts, TensionBranchGrowsAsAPairStretches) {
+  const double dp = 1e-3, h = 1.2e-3, eps = 0.2;
+  const TaitEos eos(1000, 10);
+  const WendlandC2<2> k(h);
+  const double w_ratio = k.w(0.5 * dp) / k.w(dp);
+  const auto bracket = [&](double rho, double e) {
+    const double por2 = terms::pressure_over_rho2(eos.pressure(rho), rho);
+    const double r = terms::anti_clump_r(e, por2);
+    return 2 * por2 + terms::anti_clump(r, r, por2, por2, w_ratio, 4) * (e > 0 ? 1 : 0);
+  };
+  for (double rho : {950.0, 900.0}) {
+    std::printf("[          ] rho = %.0f: bracket %.4g (R off %.4g) m^2/s^2\n", rho,
+                bracket(rho, eps), bracket(rho, 0));
+  }
+  EXPECT_LT(bracket(950, 0), 0.0);
+  EXPECT_LT(bracket(900, 0), bracket(950, 0));  // more attraction when stretched
+  EXPECT_GT(bracket(950, eps), 0.0);
+  EXPECT_GT(bracket(900, eps), bracket(950, eps));  // more repulsion when stretched
+}
+
+// The fix: R_a = 0 at a particle the free-surface pass flags, unless
+// numerics.anti_clump_at_surface asks for the published form everywhere.
+TEST(AntiClumpAtImpacts, NoTensionBranchAtSurfaceParticles) {
+  SphParams sp;
+  SphParticles<2> ps;
+  ps.push_owned(0, Kind::Fluid, -1, 1e-3, Vec<2>(0, 0), Vec<2>(0, 0), 900);
+  ps.push_owned(1, Kind::Fluid, -1, 1e-3, Vec<2>(1e-3, 0), Vec<2>(0, 0), 900);
+  ps.p[0] = ps.p[1] = -5000;
+  ps.free_surface[1] = 1;
+  double r[2];
+  for (std::size_t i = 0; i < 2; ++i) terms::field::AntiClumpR::fill<2>(sp, ps, i, &r[i]);
+  EXPECT_DOUBLE_EQ(r[0], 0.2 * 5000 / (900.0 * 900.0));
+  EXPECT_EQ(r[1], 0.0);
+  sp.anti_clump_at_surface = true;
+  terms::field::AntiClumpR::fill<2>(sp, ps, 1, &r[1]);
+  EXPECT_DOUBLE_EQ(r[1], r[0]);
+}
+
+// Whether the dam break of inputs/validation/dam_break.yaml at artificial
+// viscosity 0.02, shifting off, reaches t_end; the time it stopped at.
+double dam_break_reaches(double t_end, bool at_surface) {
+  const Case c = testing::load_input(
+      "validation/dam_break.yaml",
+      {"numerics.artificial_viscosity=0.02",
+       std::string("numerics.anti_clump_at_surface=") + (at_surface ? "true" : "false")});
+  const Comm self(MPI_COMM_SELF);
+  Simulation<2> sim(c, self, quiet());
+  try {
+    testing::run_until(sim, t_end);
+  } catch (const SimulationError& e) {
+    std::printf("[          ] failed: %s\n", e.what());
+  }
+  return sim.time();
+}
+
+// The published form blows up at t = 0.123 s (a particle leaves through
+// the left wall); without the tension branch at surface particles the same
+// run, shifting off, passes 0.3 s (it fails at 0.363 s: tension inside the
+// splash, docs/physics.md "Momentum").
+TEST(AntiClumpAtImpacts, DamBreakAtAlpha002RunsWithoutShifting) {
+  const double t_end = 0.3;
+  const double published = dam_break_reaches(t_end, true);
+  std::printf("[          ] published form: stopped at t = %.4f s\n", published);
+  EXPECT_LT(published, 0.15);
+  const double fixed = dam_break_reaches(t_end, false);
+  std::printf("[          ] off at the surface: reached t = %.4f s\n", fixed);
+  EXPECT_GE(fixed, t_end * (1 - 1e-9));
+}
+
+// --- weld lines and trapped air --------------------------------------------------------
+
+// inputs/validation/weld_line.yaml: the fronts meet on x = 25 mm from
+// 8.5 ms (their free surfaces run a little ahead of the blocks); the notch
+// is closed from then until 11 ms, when the resin has filled it.
+Case weld_case() {
+  return testing::load_input("validation/weld_line.yaml");
+}
+
+constexpr double kMeetX = 0.025;
+constexpr double kClosed = 0.0095;  // s: the notch is a closed pocket
+
+TEST(WeldLines, TwoFrontsMakeAWeldLineOnTheMeetingPlane) {
+  const Case c = weld_case();
+  const double dp = c.numerics.spacing;
+  const Comm self(MPI_COMM_SELF);
+  Simulation<2> sim(c, self, quiet());
+  testing::run_until(sim, 0.007);
+  std::vector<FrontEvent> before = sim.front_events();
+  std::size_t welds = 0;
+  for (const FrontEvent& e : before) welds += e.kind == FrontEvent::Kind::WeldLine;
+  EXPECT_EQ(welds, 0u) << "a weld line before the fronts met";
+  testing::run_until(sim, kClosed);
+  double lo = 1, hi = -1, y_lo = 1, y_hi = -1;
+  welds = 0;
+  for (const FrontEvent& e : sim.front_events()) {
+    if (e.kind != FrontEvent::Kind::WeldLine) continue;
+    ++welds;
+    lo = std::min(lo, e.x[0]);
+    hi = std::max(hi, e.x[0]);
+    y_lo = std::min(y_lo, e.x[1]);
+    y_hi = std::max(y_hi, e.x[1]);
+    // Inside the notch the resin that flows in welds onto its back face.
+    const bool in_notch = e.x[1] > 0.007 - dp && e.x[1] < 0.013 + dp;
+    if (!in_notch) {
+      EXPECT_NEAR(e.x[0], kMeetX, dp) << "weld at y = " << e.x[1] << ", t = " << e.time;
+    }
+    EXPECT_GT(e.time, 0.007);
+  }
+  std::printf("[          ] %zu weld events, x in [%.3f, %.3f] mm, y in [%.3f, %.3f] mm\n", welds,
+              lo * 1e3, hi * 1e3, y_lo * 1e3, y_hi * 1e3);
+  // Both halves of the front (below and above the notch) weld.
+  EXPECT_GE(welds, 10u);
+  EXPECT_LT(y_lo, 0.007);
+  EXPECT_GT(y_hi, 0.013);
+  std::size_t flagged = 0;
+  const SphParticles<2>& ps = sim.particles();
+  for (std::size_t i = 0; i < ps.n_owned; ++i) flagged += ps.weld_line[i] != 0;
+  EXPECT_EQ(flagged, welds);
+}
+
+TEST(TrappedAir, TheNotchClosedByTheOtherFrontIsOnePocket) {
+  const Case c = weld_case();
+  const double dp = c.numerics.spacing;
+  const Comm self(MPI_COMM_SELF);
+  Simulation<2> sim(c, self, quiet());
+  std::size_t pockets = 0;
+  for (const FrontEvent& e : sim.front_events()) pockets += e.kind == FrontEvent::Kind::TrappedAir;
+  EXPECT_EQ(pockets, 0u) << "the open notch at t = 0";
+  testing::run_until(sim, kClosed);
+  std::vector<FrontEvent> air;
+  for (const FrontEvent& e : sim.front_events())
+    if (e.kind == FrontEvent::Kind::TrappedAir) air.push_back(e);
+  ASSERT_EQ(air.size(), 1u);
+  std::printf("[          ] pocket at (%.3f, %.3f) mm, %.3g mm^2\n", air[0].x[0] * 1e3,
+              air[0].x[1] * 1e3, air[0].size * 1e6);
+  EXPECT_GT(air[0].x[0], 0.015);
+  EXPECT_LT(air[0].x[0], kMeetX);
+  EXPECT_NEAR(air[0].x[1], 0.010, dp);
+  EXPECT_GT(air[0].size, 2 * dp * dp);
+  EXPECT_LT(air[0].size, 0.005 * 0.006);
+}
+
+// The weld-line flags and the event list, N ranks against one.
+struct Row {
+  std::int64_t gid = 0;
+  double value[3] = {};  // weld_line, x, y
+};
+
+struct WeldState {
+  std::vector<Row> rows;       // per resin particle
+  std::vector<double> events;  // time, x, y, id, size per event
+};
+
+std::vector<double> flatten(const std::vector<FrontEvent>& events) {
+  std::vector<double> out;
+  for (const FrontEvent& e : events)
+    out.insert(out.end(), {e.time, e.x[0], e.x[1], static_cast<double>(e.id), e.size,
+                           e.kind == FrontEvent::Kind::WeldLine ? 0.0 : 1.0});
+  return out;
+}
+
+WeldState run_weld(const Comm& comm) {
+  Simulation<2> sim(weld_case(), comm, quiet());
+  testing::run_until(sim, kClosed);
+  WeldState s;
+  s.events = flatten(sim.front_events());
+  std::vector<Row> mine;
+  const SphParticles<2>& ps = sim.particles();
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    Row r;
+    r.gid = ps.gid[i];
+    r.value[0] = ps.weld_line[i];
+    r.value[1] = ps.x[i][0];
+    r.value[2] = ps.x[i][1];
+    mine.push_back(r);
+  }
+  s.rows = testing_mpi::gather_rows(comm, mine);
+  return s;
+}
+
+TEST(FrontEventsRanks, SameAtEveryRankCount) {
+  WeldState ref;
+  if (world().root()) ref = run_weld(Comm(MPI_COMM_SELF));
+  testing_mpi::wait_for_root(world());
+  const WeldState got = run_weld(world());
+  if (!world().root()) return;
+  std::size_t welded = 0;
+  for (const Row& r : ref.rows) welded += r.value[0] != 0;
+  EXPECT_EQ(testing_mpi::bitwise_mismatches(ref.rows, got.rows), 0u);
+  EXPECT_GT(welded, 0u);
+  ASSERT_EQ(ref.events.size(), got.events.size());
+  EXPECT_EQ(std::memcmp(ref.events.data(), got.events.data(), ref.events.size() * sizeof(double)),
+            0);
+}
+
+// Turning the detection on changes no particle's motion.
+TEST(FrontEvents, DetectionDoesNotChangeTheFlow) {
+  const Comm self(MPI_COMM_SELF);
+  Simulation<2> on(weld_case(), self, quiet());
+  Simulation<2> off(testing::load_input("validation/weld_line.yaml", {"output.front_events=false"}),
+                    self, quiet());
+  on.advance(300);
+  off.advance(300);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < on.particles().n_owned; ++i)
+    differ += std::memcmp(&on.particles().x[i], &off.particles().x[i], sizeof(Vec<2>)) != 0;
+  EXPECT_EQ(differ, 0u);
+}
+
+}  // namespace
+}  // namespace sphdem
