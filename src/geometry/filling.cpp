@@ -178,9 +178,11 @@ InitialCounts build_initial_particles(const Case& c, SphParticles<D>& out) {
   std::vector<Vec<D>> fluid, wall;
   std::vector<std::size_t> fill_of;  // per resin node: the fill shape it is in
   std::vector<std::size_t> fill_hits(c.fill.size(), 0);
+  std::size_t cavity_nodes = 0;
   for_each_node<D>(L, [&](const Vec<D>& p) {
     if (!inside_domain<D>(dom, p)) return;
     if (union_contains<D>(c.mold.shapes, p)) {
+      ++cavity_nodes;
       for (std::size_t f = 0; f < c.fill.size(); ++f) {
         if (shape_contains<D>(c.fill[f], p, tol)) {
           fluid.push_back(p);
@@ -201,6 +203,12 @@ InitialCounts build_initial_particles(const Case& c, SphParticles<D>& out) {
     }
   }
 
+  // Surface tension acts on a free surface; a filled cavity has none.
+  if (c.resin.surface_tension > 0 && fluid.size() == cavity_nodes) {
+    throw input_error_at(c, "resin.surface_tension",
+                         "the resin fills the whole cavity, so there is no free surface for "
+                         "surface tension to act on; remove the key or fill part of the mold");
+  }
   Vec<D> v0;
   for (int k = 0; k < D; ++k) v0[k] = c.initial_velocity[k];
   std::int64_t id = 0;
