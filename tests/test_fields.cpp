@@ -223,7 +223,7 @@ TEST(FieldRegistry, SphAndDemRegistries) {
       (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "temperature", "frozen",
                                 "pressure", "acceleration", "shear_rate", "viscosity",
                                 "free_surface", "surface_normal", "position_divergence",
-                                "colour_gradient", "csf_normal", "curvature"}));
+                                "colour", "csf_normal", "curvature"}));
   std::vector<std::string> sph, dem;
   for (const CheckpointColumn& c : checkpoint_columns(SphParticles<2>{})) sph.push_back(c.name);
   for (const CheckpointColumn& c : checkpoint_columns(DemParticles<2>{})) dem.push_back(c.name);

@@ -90,9 +90,9 @@ enum class SphGroup : std::uint8_t {
   X(Vec<D>, surface_normal, in_group(SphGroup::FreeSurface) | output_as("surface_normal", "1"))   \
   X(double, position_divergence, kLocal | output_as("position_divergence", "1"))                  \
   X(Vec<D>, shifting_gradient, kLocal)                                                            \
-  /* surface tension (src/sph/terms/surface_tension.hpp): |grad C| and the unit outward */        \
-  /* normal where it is reliable (else 0); the curvature div n */                                 \
-  X(double, colour_gradient, in_group(SphGroup::SurfaceNormal) | output_as("colour_gradient", "1/m")) \
+  /* surface tension (src/sph/terms/surface_tension.hpp): the Shepard colour, the unit */         \
+  /* outward normal where it is reliable (else 0); the curvature at the surface */                \
+  X(double, colour, in_group(SphGroup::SurfaceNormal) | output_as("colour", "1"))                 \
   X(Vec<D>, csf_normal, in_group(SphGroup::SurfaceNormal) | output_as("csf_normal", "1"))         \
   X(double, curvature, in_group(SphGroup::Curvature) | output_as("curvature", "1/m"))             \
   /* Integrator state within a step: half-step values (owned only). They */                       \
