@@ -118,7 +118,8 @@ TEST(Droplet, Mode2Period2D) {
       {"numerics.end_time=0.02", "initial_fields=[{velocity: ['50*x', '-50*y']}]"});
   Simulation<2> sim(c, comm(), quiet());
   const double radius = equivalent_radius(sim.particles(), c.numerics.spacing);
-  const double omega = std::sqrt(6.0 * c.resin.surface_tension / (c.resin.density * radius * radius * radius));
+  const double omega =
+      std::sqrt(6.0 * c.resin.surface_tension / (c.resin.density * radius * radius * radius));
   const double lamb = 2 * kPi / omega;
   double q_prev = mode2(sim.particles()), t_prev = sim.time();
   std::vector<double> crossings;
@@ -133,8 +134,9 @@ TEST(Droplet, Mode2Period2D) {
     t_prev = sim.time();
   }
   ASSERT_EQ(crossings.size(), 2u) << "no oscillation by t = " << sim.time();
-  std::printf("[          ] 2D droplet n = 2: half period %.4g s, period %.4g s, Lamb %.4g s (%.4f)\n",
-              crossings[0], crossings[1], lamb, crossings[1] / lamb);
+  std::printf(
+      "[          ] 2D droplet n = 2: half period %.4g s, period %.4g s, Lamb %.4g s (%.4f)\n",
+      crossings[0], crossings[1], lamb, crossings[1] / lamb);
   EXPECT_NEAR(crossings[1] / lamb, 1.0, 0.10);
   EXPECT_NEAR(crossings[0] / (0.5 * lamb), 1.0, 0.10);
 }
@@ -164,9 +166,10 @@ std::string droplet_3d_case(int n, double dp, double h_over_dp, double end_time)
          std::to_string(dp) + "\n  h_over_spacing: " + std::to_string(h_over_dp) +
          "\n  end_time: " + std::to_string(end_time) +
          "\n  artificial_viscosity: 0\n  delta_sph: 0.1\n  anti_clump: false\nmold:\n  shapes:\n"
-         "    - box: {min: [" + lo + ", " + lo + ", " + lo + "], max: [" + hi + ", " + hi + ", " +
-         hi + "]}\nperiodic: [x, y, z]\ndomain: {min: [" + lo + ", " + lo + ", " + lo +
-         "], max: [" + hi + ", " + hi + ", " + hi + "]}\nfill:\n" + fill;
+         "    - box: {min: [" +
+         lo + ", " + lo + ", " + lo + "], max: [" + hi + ", " + hi + ", " + hi +
+         "]}\nperiodic: [x, y, z]\ndomain: {min: [" + lo + ", " + lo + ", " + lo + "], max: [" +
+         hi + ", " + hi + ", " + hi + "]}\nfill:\n" + fill;
 }
 
 // Issue 18: within 5 % of 2 sigma / R. A coarse sphere, R = 8 dp (2100
@@ -178,9 +181,10 @@ TEST(Droplet, Laplace3D) {
   const double radius = equivalent_radius(sim.particles(), dp);
   const double want = 2 * c.resin.surface_tension / radius;
   const double p = mean_core_pressure(sim, radius, 0.002, c.numerics.end_time);
-  std::printf("[          ] 3D droplet R = %.4g m (%zu particles): core pressure %.3f Pa, 2 sigma/R "
-              "%.3f Pa (%.4f)\n",
-              radius, sim.particles().n_owned, p, want, p / want);
+  std::printf(
+      "[          ] 3D droplet R = %.4g m (%zu particles): core pressure %.3f Pa, 2 sigma/R "
+      "%.3f Pa (%.4f)\n",
+      radius, sim.particles().n_owned, p, want, p / want);
   EXPECT_NEAR(p / want, 1.0, 0.05);
 }
 

@@ -49,7 +49,8 @@ SphParticles<2> lattice_disc() {
   for (int i = -n; i < n; ++i)
     for (int j = -n; j < n; ++j) {
       const Vec<2> x((i + 0.5) * kDp, (j + 0.5) * kDp);
-      if (x.norm() < kRadius) ps.push_owned(id++, Kind::Fluid, -1, 1000 * kDp * kDp, x, Vec<2>::Zero(), 1000);
+      if (x.norm() < kRadius)
+        ps.push_owned(id++, Kind::Fluid, -1, 1000 * kDp * kDp, x, Vec<2>::Zero(), 1000);
     }
   return ps;
 }
@@ -64,8 +65,8 @@ SphParticles<2> ring_disc() {
     const int n = std::max(1, static_cast<int>(std::lround(2 * std::numbers::pi * r / kDp)));
     for (int m = 0; m < n; ++m) {
       const double a = 2 * std::numbers::pi * (m + 0.5 * (k % 2)) / n;
-      ps.push_owned(id++, Kind::Fluid, -1, 1000 * kDp * kDp, Vec<2>(r * std::cos(a), r * std::sin(a)),
-                    Vec<2>::Zero(), 1000);
+      ps.push_owned(id++, Kind::Fluid, -1, 1000 * kDp * kDp,
+                    Vec<2>(r * std::cos(a), r * std::sin(a)), Vec<2>::Zero(), 1000);
     }
   }
   return ps;
@@ -101,8 +102,8 @@ TEST(SurfaceTension, NormalAndCurvatureOfADisc) {
     EXPECT_NEAR(ps.curvature[i] * kRadius, 1.0, 0.10) << "at r = " << r / kDp << " dp";
     sum += ps.curvature[i] * kRadius;
   }
-  std::printf("[          ] %d particles with a normal: mean curvature %.4f of 1/R\n",
-              with_normal, sum / with_normal);
+  std::printf("[          ] %d particles with a normal: mean curvature %.4f of 1/R\n", with_normal,
+              sum / with_normal);
   EXPECT_GT(with_normal, 150);
   EXPECT_NEAR(sum / with_normal, 1.0, 0.05);
 }

@@ -156,8 +156,8 @@ TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max
   // Capillary waves (Brackbill, Kothe & Zemach 1992, Eq. 61; Morris 2000):
   // dt <= 0.25 sqrt(rho0 h^3 / (2 pi sigma)).
   if (sp.surface_tension > 0) {
-    const double dt_s =
-        0.25 * std::sqrt(sp.rho0 * sp.h * sp.h * sp.h / (2.0 * std::numbers::pi * sp.surface_tension));
+    const double dt_s = 0.25 * std::sqrt(sp.rho0 * sp.h * sp.h * sp.h /
+                                         (2.0 * std::numbers::pi * sp.surface_tension));
     if (dt_s < ts.dt) ts = {dt_s, DtLimit::Capillary};
   }
   return ts;

@@ -51,7 +51,7 @@ enum class SphGroup : std::uint8_t {
   X(std::int32_t, wall, kGhost | kMigrate | kCheckpoint | output_as("wall_id", "1"))              \
   X(double, mass, kGhost | kMigrate | kCheckpoint) /* [kg] (2D: per unit depth, kg/m) */          \
   /* walls: from the particle to the nearest point of the mold's surface (slip walls) [m] */      \
-  X(Vec<D>, wall_to_surface, kGhost | kMigrate | kCheckpoint)                                              \
+  X(Vec<D>, wall_to_surface, kGhost | kMigrate | kCheckpoint)                                     \
   /* State. */                                                                                    \
   X(Vec<D>, x, kGhost | in_group(SphGroup::State) | kShifted | kMigrate | kCheckpoint) /* [m] */  \
   /* velocity; for walls the wall's own velocity */                                               \
