@@ -188,38 +188,5 @@ TEST(Droplet, Laplace3D) {
   EXPECT_NEAR(p / want, 1.0, 0.05);
 }
 
-// H / a of the resin on the floor y = 0: H the top particle's y plus half
-// a spacing, a half the bottom row's width plus half a spacing.
-double height_over_half_base(const SphParticles<2>& ps, double dp) {
-  double top = 0, lo = 1e30, hi = -1e30;
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    if (ps.kind[i] != Kind::Fluid) continue;
-    top = std::max(top, ps.x[i][1]);
-    if (ps.x[i][1] < dp) {
-      lo = std::min(lo, ps.x[i][0]);
-      hi = std::max(hi, ps.x[i][0]);
-    }
-  }
-  return (top + 0.5 * dp) / (0.5 * (hi - lo) + 0.5 * dp);
-}
-
-// A half disc on a floor of contact angle theta settles into a cap with
-// H / a = tan(theta / 2). The angle that H / a gives must be within
-// CONTACT_TOL of theta: the base and the height are known to half a
-// spacing each (R = 16 dp), which alone moves the angle by ~4 degrees.
-TEST(Droplet, ContactAngleOnAWall) {
-  for (const double theta : {60.0, 120.0}) {
-    const Case c = testing::load_input("validation/droplet_wall_2d.yaml",
-                                       {"mold.contact_angle=" + std::to_string(theta)});
-    Simulation<2> sim(c, comm(), quiet());
-    const double dp = c.numerics.spacing;
-    testing::run_until(sim, c.numerics.end_time);
-    const double angle = 2 * std::atan(height_over_half_base(sim.particles(), dp)) * 180 / kPi;
-    std::printf("[          ] contact angle %.0f: H/a %.4f, angle %.2f degrees\n", theta,
-                height_over_half_base(sim.particles(), dp), angle);
-    EXPECT_NEAR(angle, theta, 10.0);
-  }
-}
-
 }  // namespace
 }  // namespace sphdem
