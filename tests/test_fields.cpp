@@ -218,11 +218,11 @@ TEST(FieldRegistry, SphAndDemRegistries) {
   // hydrodynamic torque's lever and resin offset
   EXPECT_EQ(dem_bytes(DemParticles<2>(), DemGroup::Coupling), 8u * 7);
   EXPECT_EQ(dem_bytes(DemParticles<3>(), DemGroup::Coupling), 8u * 11);
-  EXPECT_EQ(
-      sph_output_fields(),
-      (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "temperature", "frozen",
-                                "weld_line", "pressure", "acceleration", "shear_rate", "viscosity",
-                                "free_surface", "surface_normal", "position_divergence"}));
+  EXPECT_EQ(sph_output_fields(),
+            (std::vector<std::string>{"kind", "wall_id", "velocity", "density", "temperature",
+                                      "frozen", "weld_line", "pressure", "acceleration",
+                                      "shear_rate", "viscosity", "free_surface", "surface_normal",
+                                      "position_divergence", "colour", "csf_normal", "curvature"}));
   std::vector<std::string> sph, dem;
   for (const CheckpointColumn& c : checkpoint_columns(SphParticles<2>{})) sph.push_back(c.name);
   for (const CheckpointColumn& c : checkpoint_columns(DemParticles<2>{})) dem.push_back(c.name);

@@ -253,6 +253,14 @@ TEST(RankIndependence, ThermalCouetteHeating) {
                              /*expect_migration=*/false);
 }
 
+// Surface tension (issue 18 part 3): the normal and curvature passes and
+// their ghost exchanges, and the force that reads them.
+TEST(RankIndependence, Droplet2D) {
+  expect_rank_independent<2>(
+      load("validation/droplet_2d.yaml", {"initial_fields=[{velocity: ['50*x', '-50*y']}]"}), 300,
+      /*expect_migration=*/false);
+}
+
 TEST(RankIndependence, DamBreakWithForcedRebalancing) {
   expect_rank_independent<2>(load("validation/dam_break.yaml",
                                   {"parallel.balance_every=10", "parallel.imbalance_threshold=0"}),

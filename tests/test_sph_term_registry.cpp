@@ -46,8 +46,8 @@ bool has(const std::vector<std::string>& v, const std::string& s) {
 }
 
 TEST(SphTermRegistry, SelectsTheTermsAndVariantsTheCaseSwitchesOn) {
-  // delta, AV, mu, variable mu: 2; clump: 3
-  EXPECT_EQ(terms::Registry<SphTerms>::kCombinations, 48u);
+  // delta, AV, surface tension, mu, variable mu: 2; clump: 3
+  EXPECT_EQ(terms::Registry<SphTerms>::kCombinations, 96u);
 
   SphParams sp = base_params();  // the channel: Morris + anti-clump n = 4
   auto d = describe_pair_loop<2, SphTerms>(sp);
@@ -69,6 +69,10 @@ TEST(SphTermRegistry, SelectsTheTermsAndVariantsTheCaseSwitchesOn) {
   sp.anti_clump = false;
   d = describe_pair_loop<2, SphTerms>(sp);
   EXPECT_EQ(d.terms, (std::vector<std::string>{"continuity", "pressure"}));
+  sp.surface_tension = 0.05;  // the continuum surface force (surface_tension.hpp)
+  d = describe_pair_loop<2, SphTerms>(sp);
+  EXPECT_EQ(d.terms, (std::vector<std::string>{"continuity", "pressure", "surface_tension"}));
+  sp.surface_tension = 0;
 
   // A viscosity law: the variable-viscosity term instead of Morris's.
   sp = base_params();

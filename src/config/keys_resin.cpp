@@ -141,6 +141,12 @@ Section<Resin> make_resin() {
                             "decelerating piston does not pull the resin into tension; see "
                             "`docs/physics.md`")
                          .identity()),
+      unless_default(number("surface_tension", "N/m", non_negative_number(),
+                            &Resin::surface_tension,
+                            "surface tension sigma of the resin's free surface, a continuum "
+                            "surface force (docs/physics.md \"Surface tension\"); 0 = none; "
+                            "needs a free surface")
+                         .identity()),
       optional_mapping("thermal", thermal_keys, &Resin::thermal,
                        "temperature, conduction, viscous heating, no-flow temperature; none: "
                        "isothermal"),

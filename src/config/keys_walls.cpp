@@ -52,6 +52,18 @@ Key<W> slip_length() {
   return k;
 }
 
+template <class W>
+Key<W> contact_angle(std::string default_text) {
+  Key<W> k =
+      optional_number<W>("contact_angle", "deg", in_range(0, 180, true, true), &W::contact_angle,
+                         "with resin.surface_tension: the resin's static contact angle at this "
+                         "wall, measured through the resin (docs/physics.md \"Surface tension\")");
+  k.defaults_to(std::move(default_text));
+  k.section_settings =
+      only_when_given<W>([](const W& w) { return w.contact_angle.has_value(); }, k.show);
+  return k;
+}
+
 // The thermal condition (resin.thermal): a temperature [K] the wall holds,
 // and optionally a heat-transfer coefficient to it.
 template <class W>
@@ -110,6 +122,7 @@ Section<Mold> make_mold() {
           .identity(),
       wall_condition<Mold>("no_slip").identity(),
       slip_length<Mold>().identity(),
+      contact_angle<Mold>("90").identity(),
       wall_temperature<Mold>("none (adiabatic)").identity(),
       heat_transfer_coefficient<Mold>().identity(),
   };
@@ -205,6 +218,7 @@ Section<MovingWall> make_moving_wall() {
           .identity(),
       wall_condition<W>("mold.wall_condition").identity(),
       slip_length<W>().identity(),
+      contact_angle<W>("mold.contact_angle").identity(),
       wall_temperature<W>("mold.temperature").identity(),
       heat_transfer_coefficient<W>().identity(),
   };
@@ -230,6 +244,7 @@ Section<SlidingWall> make_sliding_wall() {
       vector("velocity", "m/s", &W::velocity, "tangential surface velocity").required().identity(),
       wall_condition<W>("mold.wall_condition").identity(),
       slip_length<W>().identity(),
+      contact_angle<W>("mold.contact_angle").identity(),
       wall_temperature<W>("mold.temperature").identity(),
       heat_transfer_coefficient<W>().identity(),
   };

@@ -234,7 +234,7 @@ NodeClass LatticeFill<D>::classify(const Vec<D>& p) const {
   if (union_contains<D>(m.c.mold.shapes, p)) {
     for (std::size_t f = 0; f < m.c.fill.size(); ++f)
       if (shape_contains<D>(m.c.fill[f], p, m.tol)) return {static_cast<int>(f)};
-    return {};
+    return {NodeClass::kEmptyCavity};
   }
   if (union_distance<D>(m.c.mold.shapes, p) <= m.wall_reach) return {NodeClass::kWall};
   return {};
@@ -265,6 +265,12 @@ void LatticeFill<D>::check_fill_hits(const std::vector<std::int64_t>& hits) cons
                        "spacing, or outside the mold)");
     }
   }
+  // Surface tension acts on a free surface; a filled cavity has none.
+  if (c.resin.surface_tension > 0 && hits[c.fill.size()] == 0) {
+    throw input_error_at(c, "resin.surface_tension",
+                         "the resin fills the whole cavity, so there is no free surface for "
+                         "surface tension to act on; remove the key or fill part of the mold");
+  }
 }
 
 template <int D>
@@ -291,7 +297,7 @@ InitialCounts build_initial_particles(const Case& c, SphParticles<D>& out) {
   const LatticeFill<D> lattice(c);
   std::vector<Vec<D>> fluid, wall;
   std::vector<NodeClass> fluid_class;
-  std::vector<std::int64_t> hits(lattice.fill_shapes(), 0);
+  std::vector<std::int64_t> hits(lattice.fill_shapes() + 1, 0);
   for (std::int64_t q = 0; q < lattice.rows(); ++q) {
     for (long i = lattice.x_first(); i <= lattice.x_last(); ++i) {
       const Vec<D> p = lattice.node(q, i);
@@ -302,6 +308,8 @@ InitialCounts build_initial_particles(const Case& c, SphParticles<D>& out) {
         ++hits[static_cast<std::size_t>(cls.value)];
       } else if (cls.wall()) {
         wall.push_back(p);
+      } else if (cls.empty_cavity()) {
+        ++hits.back();
       }
     }
   }

@@ -311,11 +311,11 @@ void read_checkpoint_clock(const CheckpointReader& r, const std::string& path, C
   clock.step = r.integer_in("step", 0, std::numeric_limits<std::int64_t>::max() / 2);
   clock.time = r.real_in("time", 0, inf);
   clock.dt.dt = r.real_in("dt", 0, inf, /*lo_open=*/true);
-  // The resin's limits (a fibers-only checkpoint has no dt_limit); Thermal is
-  // DtLimit's last enumerator.
+  // The resin's limits (a fibers-only checkpoint has no dt_limit); Capillary
+  // is DtLimit's last enumerator.
   clock.dt.limit =
       resin ? static_cast<DtLimit>(r.integer_in("dt_limit", static_cast<std::int64_t>(DtLimit::Cfl),
-                                                static_cast<std::int64_t>(DtLimit::Thermal)))
+                                                static_cast<std::int64_t>(DtLimit::Capillary)))
             : DtLimit::Dem;
   if ((clock.step == 0) != (clock.time == 0))
     throw InputError(path, 0, "",

@@ -15,14 +15,15 @@
 #include "terms/free_surface.hpp"
 #include "terms/pressure.hpp"
 #include "terms/shear_rate.hpp"
+#include "terms/surface_tension.hpp"
 #include "terms/viscosity_morris.hpp"
 #include "terms/viscosity_variable.hpp"
 
 namespace sphdem::terms {
 
 using SphTerms = TermList<Continuity, DeltaSph, Pressure, ArtificialViscosity, AntiClump,
-                          MorrisViscosity, VariableViscosity>;
+                          CsfSurfaceTension, MorrisViscosity, VariableViscosity>;
 
-using SphPasses = PassList<ShearRatePass, FreeSurfacePass>;
+using SphPasses = PassList<ShearRatePass, FreeSurfacePass, SurfaceNormalPass, CurvaturePass>;
 
 }  // namespace sphdem::terms

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "sphdem/sph/sph.hpp"
 
@@ -33,6 +34,14 @@ SphParams make_sph_params(const Case& c) {
   sp.wall_repulsion = c.numerics.wall_repulsion;
   sp.body_force = c.body_force;
   sp.mold_wall = resolve_wall_slip(c.mold, c.mold);
+  sp.surface_tension = c.resin.surface_tension;
+  // A wall's own contact_angle, else the mold's, else 90 degrees.
+  const auto angle = [&](const WallConditionKeys& w) {
+    return w.contact_angle.value_or(c.mold.contact_angle.value_or(90.0));
+  };
+  sp.contact_angle = {angle(c.mold)};
+  for (const MovingWall& w : c.moving_walls) sp.contact_angle.push_back(angle(w));
+  for (const SlidingWall& w : c.sliding_walls) sp.contact_angle.push_back(angle(w));
   sp.output_fields = c.output.fields;
   if (const auto& th = c.resin.thermal) {
     sp.thermal = true;
@@ -121,6 +130,8 @@ const char* to_string(DtLimit l) {
       return "drag";
     case DtLimit::Thermal:
       return "thermal";
+    case DtLimit::Capillary:
+      return "capillary";
   }
   return "?";
 }
@@ -143,6 +154,13 @@ TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max
   if (sp.thermal) {
     const double dt_t = thermal_time_step(sp);
     if (dt_t < ts.dt) ts = {dt_t, DtLimit::Thermal};
+  }
+  // Capillary waves (Brackbill, Kothe & Zemach 1992, Eq. 61; Morris 2000):
+  // dt <= 0.25 sqrt(rho0 h^3 / (2 pi sigma)).
+  if (sp.surface_tension > 0) {
+    const double dt_s = 0.25 * std::sqrt(sp.rho0 * sp.h * sp.h * sp.h /
+                                         (2.0 * std::numbers::pi * sp.surface_tension));
+    if (dt_s < ts.dt) ts = {dt_s, DtLimit::Capillary};
   }
   return ts;
 }

@@ -67,7 +67,8 @@ struct Resin {
   double sound_speed = 0;                  // c0 [m/s], given or from mach * reference_velocity
   double gamma = 7.0;                      // Tait exponent
   double ambient_pressure = 0;             // [Pa] added to the Tait pressure (docs/physics.md)
-  std::optional<Thermal> thermal;          // none: isothermal (docs/physics.md "Temperature")
+  double surface_tension = 0;      // sigma [N/m], 0 = none (docs/physics.md "Surface tension")
+  std::optional<Thermal> thermal;  // none: isothermal (docs/physics.md "Temperature")
 };
 
 enum class ViscosityModel { Morris, None };
@@ -108,7 +109,8 @@ enum class WallSlip { NoSlip, FreeSlip, NavierSlip };
 // mold's (for a moving or sliding wall) or to no-slip (for the mold).
 struct WallConditionKeys {
   std::optional<WallSlip> wall_condition;
-  std::optional<double> slip_length;  // [m], navier_slip only
+  std::optional<double> slip_length;    // [m], navier_slip only
+  std::optional<double> contact_angle;  // [deg], with resin.surface_tension
   // Thermal condition (resin.thermal only): held at `temperature` [K], or
   // through a heat-transfer coefficient [W/(m^2 K)] to it; none: adiabatic.
   std::optional<double> temperature;

@@ -21,8 +21,10 @@ namespace sphdem {
 struct NodeClass {
   static constexpr int kNone = -2;
   static constexpr int kWall = -1;
+  static constexpr int kEmptyCavity = -3;  // inside the mold, in no fill region: no particle
   int value = kNone;
-  bool none() const { return value == kNone; }
+  bool none() const { return value == kNone || value == kEmptyCavity; }
+  bool empty_cavity() const { return value == kEmptyCavity; }
   bool wall() const { return value == kWall; }
   bool fluid() const { return value >= 0; }
 };
@@ -50,7 +52,10 @@ class LatticeFill {
             std::vector<std::size_t>& fill_of) const;
 
   // Throws InputError at the first fill shape with no node (hits: the
-  // number of resin nodes of each fill shape over the whole lattice).
+  // number of resin nodes of each fill shape over the whole lattice, then
+  // the number of empty cavity nodes: fill_shapes() + 1 entries), and at
+  // resin.surface_tension when the resin leaves no empty cavity (no free
+  // surface for it to act on).
   void check_fill_hits(const std::vector<std::int64_t>& hits) const;
 
   // The height of p along -body force, which the hydrostatic start measures

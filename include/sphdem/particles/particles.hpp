@@ -30,9 +30,17 @@ enum class Kind : std::uint8_t { Fluid = 0, Wall = 1 };
 // The resin's per-step ghost exchanges (Halo::forward): State before the
 // rates, to every ghost; WallState after the wall extrapolation, to the
 // wall ghosts only (docs/parallel.md, "The step"); ShearRate after the
-// shear-rate pass, FreeSurface after the free-surface pass, when they run
+// shear-rate pass, FreeSurface after the free-surface pass, SurfaceNormal and
+// Curvature after the surface-tension passes, when they run
 // (src/sph/pass_loop.hpp).
-enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2, FreeSurface = 3 };
+enum class SphGroup : std::uint8_t {
+  State = 0,
+  WallState = 1,
+  ShearRate = 2,
+  FreeSurface = 3,
+  SurfaceNormal = 4,
+  Curvature = 5
+};
 
 // The SPH field registry (field_registry.hpp): X(type, member, policy).
 #define SPHDEM_SPH_FIELDS(X)                                                                      \
@@ -43,7 +51,7 @@ enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2, Fr
   X(std::int32_t, wall, kGhost | kMigrate | kCheckpoint | output_as("wall_id", "1"))              \
   X(double, mass, kGhost | kMigrate | kCheckpoint) /* [kg] (2D: per unit depth, kg/m) */          \
   /* walls: from the particle to the nearest point of the mold's surface (slip walls) [m] */      \
-  X(Vec<D>, wall_to_surface, kMigrate | kCheckpoint)                                              \
+  X(Vec<D>, wall_to_surface, kGhost | kMigrate | kCheckpoint)                                     \
   /* State. */                                                                                    \
   X(Vec<D>, x, kGhost | in_group(SphGroup::State) | kShifted | kMigrate | kCheckpoint) /* [m] */  \
   /* velocity; for walls the wall's own velocity */                                               \
@@ -84,6 +92,11 @@ enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2, Fr
   X(Vec<D>, surface_normal, in_group(SphGroup::FreeSurface) | output_as("surface_normal", "1"))   \
   X(double, position_divergence, kLocal | output_as("position_divergence", "1"))                  \
   X(Vec<D>, shifting_gradient, kLocal)                                                            \
+  /* surface tension (src/sph/terms/surface_tension.hpp): the Shepard colour, the unit */         \
+  /* outward normal where it is reliable (else 0); the curvature at the surface */                \
+  X(double, colour, in_group(SphGroup::SurfaceNormal) | output_as("colour", "1"))                 \
+  X(Vec<D>, csf_normal, in_group(SphGroup::SurfaceNormal) | output_as("csf_normal", "1"))         \
+  X(double, curvature, in_group(SphGroup::Curvature) | output_as("curvature", "1/m"))             \
   /* Integrator state within a step: half-step values (owned only). They */                       \
   /* migrate: the neighbor rebuild (and so migration) sits between the */                         \
   /* drift and the second kick, which reads them. */                                              \

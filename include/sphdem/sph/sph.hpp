@@ -42,6 +42,10 @@ struct SphParams {
   bool wall_repulsion = false;         // Monaghan (1994) wall force (wall_repulsion.cpp)
   Vec3a body_force{};
   WallSlipLaw mold_wall;  // the condition of the fixed mold walls (wall index -1)
+  // Surface tension (src/sph/terms/surface_tension.hpp): sigma [N/m], 0 = off;
+  // each wall's contact angle [deg], by wall index + 1 (0: the fixed mold).
+  double surface_tension = 0;
+  std::vector<double> contact_angle{90.0};
   // Temperature (resin.thermal, docs/physics.md "Temperature"); off: T is
   // never touched and nothing below runs.
   bool thermal = false;
@@ -173,7 +177,7 @@ LocalExtremes local_extremes(const SphParticles<D>& ps);
 // New limits go at the end (checkpoints store the number; the restart
 // accepts up to the last one, src/solver/run.cpp).
 // Thermal: dt <= thermal_factor h^2 rho0 c_p / k (resin.thermal).
-enum class DtLimit { Cfl, Force, Viscous, Fixed, Dem, Drag, Thermal };
+enum class DtLimit { Cfl, Force, Viscous, Fixed, Dem, Drag, Thermal, Capillary };
 const char* to_string(DtLimit l);
 struct TimeStep {
   double dt = 0;
