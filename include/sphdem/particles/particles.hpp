@@ -32,7 +32,14 @@ enum class Kind : std::uint8_t { Fluid = 0, Wall = 1 };
 // wall ghosts only (docs/parallel.md, "The step"); ShearRate after the
 // shear-rate pass, FreeSurface after the free-surface pass, when they run
 // (src/sph/pass_loop.hpp).
-enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2, FreeSurface = 3 };
+// Viscous: the implicit viscous solve's vector, at each of its iterations.
+enum class SphGroup : std::uint8_t {
+  State = 0,
+  WallState = 1,
+  ShearRate = 2,
+  FreeSurface = 3,
+  Viscous = 4
+};
 
 // The SPH field registry (field_registry.hpp): X(type, member, policy).
 #define SPHDEM_SPH_FIELDS(X)                                                                      \
@@ -82,6 +89,10 @@ enum class SphGroup : std::uint8_t { State = 0, WallState = 1, ShearRate = 2, Fr
   X(Vec<D>, surface_normal, in_group(SphGroup::FreeSurface) | output_as("surface_normal", "1"))   \
   X(double, position_divergence, kLocal | output_as("position_divergence", "1"))                  \
   X(Vec<D>, shifting_gradient, kLocal)                                                            \
+  /* implicit viscosity (src/sph/implicit_viscosity.cpp): the vector the operator reads, and */   \
+  /* 1 for an unknown of the solve (resin not frozen), 0 for a known value (walls, frozen) */     \
+  X(Vec<D>, visc_u, in_group(SphGroup::Viscous))                                                  \
+  X(double, visc_free, in_group(SphGroup::Viscous))                                               \
   /* Integrator state within a step: half-step values (owned only). They */                       \
   /* migrate: the neighbor rebuild (and so migration) sits between the */                         \
   /* drift and the second kick, which reads them. */                                              \

@@ -53,6 +53,8 @@ class ResinModule final : public Module<D> {
   // per-rank work) at the last check, and how many re-partitions happened.
   double last_imbalance() const { return last_imbalance_; }
   std::int64_t repartitions() const { return repartitions_; }
+  // Conjugate-gradient iterations of the last implicit viscous solve.
+  int viscous_iterations() const { return cg_iterations_; }
   const Decomposition<D>& decomposition() const { return dec_; }
 
  private:
@@ -60,6 +62,7 @@ class ResinModule final : public Module<D> {
   std::vector<std::int64_t> cell_work() const;
   std::vector<double> face_means(const std::vector<WallFaceSample>& face);
   void set_wall_velocities(double t);
+  void solve_viscosity(double dt);
 
   const RunContext<D>& ctx_;
   const Case& case_;
@@ -78,6 +81,7 @@ class ResinModule final : public Module<D> {
   double last_imbalance_ = 0;
   std::int64_t repartitions_ = 0;
   bool pressure_series_started_ = false;  // the injection pressure CSV of this run
+  int cg_iterations_ = 0;                 // of the last implicit viscous solve
 };
 
 }  // namespace sphdem
