@@ -238,11 +238,17 @@ void ResinModule<D>::correct(double dt) {
     if (ps_.kind[i] == Kind::Fluid) {
       if (ps_.frozen[i]) ps_.a[i].setZero();
       ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
+    }
+  }
+  // Before the density kick: the solve reads the densities of the rates,
+  // which the ghosts hold too (rank-count independence).
+  if (sp_.implicit_viscosity) solve_viscosity(dt);
+  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
+    if (ps_.kind[i] == Kind::Fluid) {
       ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
       if (sp_.thermal) ps_.temperature[i] = ps_.temp_half[i] + half * ps_.dtemp[i];
     }
   }
-  if (sp_.implicit_viscosity) solve_viscosity(dt);
   shift_particles<D>(sp_, dt, ps_);
 }
 
