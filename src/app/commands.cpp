@@ -233,6 +233,13 @@ int check_case(const Case& c, const Comm& comm, const CaseSize& size) {
       "  run time: about {:.0f} s on one core (at {:.1g} particle-steps/s)\n",
       c.name, D, sim.global_fluid_count(), sim.global_wall_count(), c.numerics.spacing, sp.h, sp.c0,
       ts.dt, to_string(ts.limit), c.numerics.end_time, steps, seconds, kParticleStepsPerSecond);
+  if (sp.implicit_viscosity) {
+    const double dt_v = explicit_viscous_time_step(c.numerics, sp);
+    std::cout << fmt::format(
+        "  viscosity: implicit (docs/physics.md \"Implicit viscosity\"); the explicit limit "
+        "would be {:.3g} s, {:.3g} times smaller, plus the solve's iterations per step\n",
+        dt_v, ts.dt / dt_v);
+  }
   if (sim.dem()) {
     // Measured on the coupled plate (docs/performance.md): DEM and coupling
     // together cost about as much again as the resin.

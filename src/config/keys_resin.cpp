@@ -187,7 +187,8 @@ void check_fixed_dt(const Map& m, Numerics& n, Context& ctx) {
     v->fail(fmt::format("{} s exceeds the stable limit cfl*h/c0 = {:.4g} s", v->text(), cfl_limit));
   }
   const double visc_limit = n.viscous_factor * h * h * r.density / r.viscosity;
-  if (r.viscosity > 0 && *n.fixed_dt > visc_limit) {
+  const bool explicit_viscosity = n.viscous_integration == ViscousIntegration::Explicit;
+  if (explicit_viscosity && r.viscosity > 0 && *n.fixed_dt > visc_limit) {
     v->fail(
         fmt::format("{} s exceeds the stable limit viscous_factor*h^2*density/viscosity = {:.4g} s",
                     v->text(), visc_limit));
@@ -211,6 +212,26 @@ Key<Numerics> viscosity_model() {
   };
   k.show = [](const Numerics& n) {
     return n.viscosity_model == ViscosityModel::Morris ? "morris" : "none";
+  };
+  return k;
+}
+
+Key<Numerics> viscous_integration() {
+  Key<Numerics> k{"viscous_integration",
+                  "enum",
+                  "",
+                  "",
+                  "explicit or implicit",
+                  "explicit: the viscous term in the pair loop (dt <= viscous_factor h^2 rho0 / "
+                  "mu); implicit: a backward-Euler conjugate-gradient solve after the second kick, "
+                  "no viscous limit; see `docs/physics.md` \"Implicit viscosity\""};
+  k.read = [](const Value& v, Numerics& n, Context&) {
+    n.viscous_integration = one_of(v, {"explicit", "implicit"}) == "implicit"
+                                ? ViscousIntegration::Implicit
+                                : ViscousIntegration::Explicit;
+  };
+  k.show = [](const Numerics& n) {
+    return n.viscous_integration == ViscousIntegration::Implicit ? "implicit" : "explicit";
   };
   return k;
 }
@@ -243,6 +264,16 @@ Section<Numerics> make_numerics() {
              "simulated time to run; > `fixed_dt`")
           .required(),
       viscosity_model().identity(),
+      unless_default(viscous_integration().identity()),
+      unless_default(number("implicit_tolerance", "", in_range(0, 1e-2, kOpen, kClosed),
+                            &N::implicit_tolerance,
+                            "implicit viscosity: the solve stops when the residual is below this "
+                            "fraction of the right-hand side (mass-weighted norms)")
+                         .identity()),
+      unless_default(integer("implicit_max_iterations", "", 1, &N::implicit_max_iterations,
+                             "implicit viscosity: conjugate-gradient iterations before the run "
+                             "stops with an error")
+                         .identity()),
       number("artificial_viscosity", "", non_negative_number(), &N::artificial_viscosity,
              "Monaghan alpha")
           .identity(),
@@ -290,9 +321,16 @@ Section<Numerics> make_numerics() {
       "Without `fixed_dt` the step adapts (the minimum of the three limits above).\n"
       "A `fixed_dt` that cannot be stable is rejected before the run: it must not\n"
       "exceed `cfl * h / c0` (the CFL limit at rest, the most lenient it gets) nor,\n"
-      "when the viscosity is positive, `viscous_factor * h^2 * density /\n"
-      "viscosity`. The error gives the limit:\n"
-      "`key 'numerics.fixed_dt': 2.0e-6 s exceeds the stable limit cfl*h/c0 = 1.5e-06 s`.\n";
+      "when the viscosity is positive and `viscous_integration` is explicit,\n"
+      "`viscous_factor * h^2 * density / viscosity`. The error gives the limit:\n"
+      "`key 'numerics.fixed_dt': 2.0e-6 s exceeds the stable limit cfl*h/c0 = 1.5e-06 s`.\n"
+      "\n"
+      "`viscous_integration: implicit` drops the viscous limit: after the second\n"
+      "kick the velocities solve (M - dt M L) u = M v by Jacobi-preconditioned\n"
+      "conjugate gradients over the neighbour graph, with rank-count independent\n"
+      "sums. A solve that does not reach `implicit_tolerance` within\n"
+      "`implicit_max_iterations` stops the run with an error (docs/physics.md\n"
+      "\"Implicit viscosity\").\n";
   return s;
 }
 

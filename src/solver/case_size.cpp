@@ -128,6 +128,10 @@ CaseSize estimate(const Case& c, int ranks) {
     // the measured peak at 1 to 8 ranks (docs/scaling.md).
     sph_run =
         kSphOverhead * (owned + ghosts) * (2.0 * per_particle + neighbours * sizeof(std::int32_t));
+    // Implicit viscosity: a coefficient per neighbour and the solve's six
+    // vectors and diagonal per owned particle (src/sph/implicit_viscosity.cpp).
+    if (c.numerics.viscous_integration == ViscousIntegration::Implicit)
+      sph_run += owned * (neighbours + 6.0 * D + 1.0) * sizeof(double);
   }
   if (c.fibers) {
     const FiberSettings& f = *c.fibers;

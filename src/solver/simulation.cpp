@@ -14,10 +14,12 @@
 #include "snapshot_fields.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/geometry/geometry.hpp"
+#include "sphdem/parallel/exact_sum.hpp"
 #include "sphdem/parallel/ordered_sum.hpp"
 #include "sphdem/solver/fiber_module.hpp"
 #include "sphdem/solver/resin_module.hpp"
 #include "sphdem/solver/solver.hpp"
+#include "sphdem/sph/implicit_viscosity.hpp"
 
 namespace sphdem {
 
@@ -285,11 +287,51 @@ void ResinModule<D>::correct(double dt) {
     if (ps_.kind[i] == Kind::Fluid) {
       if (ps_.frozen[i]) ps_.a[i].setZero();
       ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
+    }
+  }
+  // Before the density kick: the solve reads the densities of the rates,
+  // which the ghosts hold too (rank-count independence).
+  if (sp_.implicit_viscosity) solve_viscosity(dt);
+  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
+    if (ps_.kind[i] == Kind::Fluid) {
       ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
       if (sp_.thermal) ps_.temperature[i] = ps_.temp_half[i] + half * ps_.dtemp[i];
     }
   }
   shift_particles<D>(sp_, dt, ps_);
+}
+
+// The implicit viscous step (implicit_viscosity.hpp) on the velocities of
+// the second kick, at the positions the rates were evaluated on. Every rank
+// reaches the same iteration count and verdict (exact sums), so a solve that
+// fails throws on every rank together.
+template <int D>
+void ResinModule<D>::solve_viscosity(double dt) {
+  ViscousSolveHooks hooks;
+  hooks.forward = [this](SphGroup g) {
+    ScopedPhase t(timers_, Phase::Halo);
+    halo_.forward(ps_, g);
+  };
+  hooks.max = [this](std::span<double> v) {
+    ScopedPhase t(timers_, Phase::Wait);
+    max_over_ranks(comm_, v);
+  };
+  hooks.exact_sum = [this](std::span<Int128> v) {
+    ScopedPhase t(timers_, Phase::Wait);
+    exact_sum(comm_, v);
+  };
+  const Numerics& num = case_.numerics;
+  const ViscousSolveStats s = solve_implicit_viscosity<D>(
+      sp_, dt, num.implicit_tolerance, num.implicit_max_iterations, nl_, ps_, hooks);
+  cg_iterations_ = s.iterations;
+  if (!s.converged) {
+    throw CollectiveSimulationError(fmt::format(
+        "the implicit viscous solve did not converge at step {} (t = {:.6g} s, dt = {:.3g} s): "
+        "relative residual {:.3g} after {} iterations, above numerics.implicit_tolerance = {:.3g} "
+        "(raise numerics.implicit_max_iterations = {}, or check the viscosity and the time step)",
+        ctx_.clock.step, ctx_.clock.time, dt, s.residual, s.iterations, num.implicit_tolerance,
+        num.implicit_max_iterations));
+  }
 }
 
 template <int D>
@@ -329,6 +371,7 @@ void ResinModule<D>::snapshot(SnapshotParts& parts) {
 // injection pressure (injection_pressure.hpp).
 template <int D>
 void ResinModule<D>::progress(std::string& line) const {
+  if (sp_.implicit_viscosity) line += fmt::format("  cg={}", cg_iterations_);
   const WallMotion* piston = nullptr;
   for (const WallMotion& w : walls_)
     if (w.moves) piston = &w;

@@ -16,6 +16,8 @@ SphParams make_sph_params(const Case& c) {
   sp.gamma = c.resin.gamma;
   sp.mu = c.numerics.viscosity_model == ViscosityModel::None ? 0.0 : c.resin.viscosity;
   sp.variable_viscosity = sp.mu > 0 && c.resin.melt.law != ViscosityLaw::Newtonian;
+  sp.implicit_viscosity =
+      sp.mu > 0 && c.numerics.viscous_integration == ViscousIntegration::Implicit;
   sp.melt = c.resin.melt;
   sp.melt_temperature = c.resin.melt_temperature.value_or(0.0);
   if (c.numerics.lattice_correction) {
@@ -61,6 +63,9 @@ SphParams make_sph_params(const Case& c) {
     // requested (src/sph/pass_loop.hpp).
     if (sp.viscous_heating) sp.output_fields.emplace_back("shear_rate");
   }
+  // The implicit solve reads a law's viscosity, which reads the shear rate;
+  // with the pair term off, nothing else asks for its pass.
+  if (sp.implicit_viscosity && sp.variable_viscosity) sp.output_fields.emplace_back("shear_rate");
   return sp;
 }
 
@@ -93,6 +98,14 @@ double viscous_lattice_correction(int dimension, double h_over_spacing) {
 double gradient_lattice_correction(int dimension, double h_over_spacing) {
   return 1.0 / (dimension == 2 ? lattice_moment<2>(h_over_spacing, false)
                                : lattice_moment<3>(h_over_spacing, false));
+}
+
+// A law: its largest particle viscosity now (before the first rates, the
+// law's ceiling sp.mu).
+double explicit_viscous_time_step(const Numerics& num, const SphParams& sp, double mu_max) {
+  const double mu = sp.variable_viscosity && mu_max > 0 ? mu_max : sp.mu;
+  return mu > 0 ? num.viscous_factor * sp.h * sp.h * sp.rho0 / mu
+                : std::numeric_limits<double>::infinity();
 }
 
 double thermal_time_step(const SphParams& sp) {
@@ -144,11 +157,8 @@ TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max
     const double dt_f = num.force_factor * std::sqrt(sp.h / a_max);
     if (dt_f < ts.dt) ts = {dt_f, DtLimit::Force};
   }
-  // A law: its largest particle viscosity now (before the first rates, the
-  // law's ceiling sp.mu).
-  const double mu = sp.variable_viscosity && mu_max > 0 ? mu_max : sp.mu;
-  if (mu > 0) {
-    const double dt_v = num.viscous_factor * sp.h * sp.h * sp.rho0 / mu;
+  if (!sp.implicit_viscosity) {
+    const double dt_v = explicit_viscous_time_step(num, sp, mu_max);
     if (dt_v < ts.dt) ts = {dt_v, DtLimit::Viscous};
   }
   if (sp.thermal) {

@@ -72,6 +72,10 @@ struct Resin {
 };
 
 enum class ViscosityModel { Morris, None };
+// How the laminar viscous term is stepped (docs/physics.md "Implicit
+// viscosity"): explicitly in the pair loop (dt <= viscous_factor h^2 rho0/mu),
+// or by a backward-Euler solve after the second kick (no viscous limit).
+enum class ViscousIntegration { Explicit, Implicit };
 
 struct Numerics {
   double spacing = 0;  // dp [m]
@@ -82,6 +86,9 @@ struct Numerics {
   std::optional<double> fixed_dt;
   double end_time = 0;
   ViscosityModel viscosity_model = ViscosityModel::Morris;
+  ViscousIntegration viscous_integration = ViscousIntegration::Explicit;
+  double implicit_tolerance = 1e-8;  // CG: |r| <= tol |b| (M-weighted norms)
+  int implicit_max_iterations = 500;
   // Scale the kernel gradient and the viscous Laplacian so they are exact on
   // the lattice the resin starts on (see gradient_lattice_correction, sph.hpp).
   bool lattice_correction = true;

@@ -33,13 +33,15 @@ enum class Kind : std::uint8_t { Fluid = 0, Wall = 1 };
 // shear-rate pass, FreeSurface after the free-surface pass, SurfaceNormal and
 // Curvature after the surface-tension passes, when they run
 // (src/sph/pass_loop.hpp).
+// Viscous: the implicit viscous solve's vector, at each of its iterations.
 enum class SphGroup : std::uint8_t {
   State = 0,
   WallState = 1,
   ShearRate = 2,
   FreeSurface = 3,
   SurfaceNormal = 4,
-  Curvature = 5
+  Curvature = 5,
+  Viscous = 6
 };
 
 // The SPH field registry (field_registry.hpp): X(type, member, policy).
@@ -97,6 +99,10 @@ enum class SphGroup : std::uint8_t {
   X(double, colour, in_group(SphGroup::SurfaceNormal) | output_as("colour", "1"))                 \
   X(Vec<D>, csf_normal, in_group(SphGroup::SurfaceNormal) | output_as("csf_normal", "1"))         \
   X(double, curvature, in_group(SphGroup::Curvature) | output_as("curvature", "1/m"))             \
+  /* implicit viscosity (src/sph/implicit_viscosity.cpp): the vector the operator reads, and */   \
+  /* 1 for an unknown of the solve (resin not frozen), 0 for a known value (walls, frozen) */     \
+  X(Vec<D>, visc_u, in_group(SphGroup::Viscous))                                                  \
+  X(double, visc_free, in_group(SphGroup::Viscous))                                               \
   /* Integrator state within a step: half-step values (owned only). They */                       \
   /* migrate: the neighbor rebuild (and so migration) sits between the */                         \
   /* drift and the second kick, which reads them. */                                              \

@@ -57,6 +57,8 @@ class ResinModule final : public Module<D> {
   // per-rank work) at the last check, and how many re-partitions happened.
   double last_imbalance() const { return last_imbalance_; }
   std::int64_t repartitions() const { return repartitions_; }
+  // Conjugate-gradient iterations of the last implicit viscous solve.
+  int viscous_iterations() const { return cg_iterations_; }
   const Decomposition<D>& decomposition() const { return dec_; }
   // Collective (output.front_events): the weld-line events since the last
   // call, by time then particle id, and (pockets) the trapped-air pockets
@@ -71,6 +73,7 @@ class ResinModule final : public Module<D> {
   std::vector<double> face_means(const std::vector<WallFaceSample>& face);
   void set_wall_velocities(double t);
   void write_front_events(bool pockets);
+  void solve_viscosity(double dt);
 
   const RunContext<D>& ctx_;
   const Case& case_;
@@ -93,6 +96,7 @@ class ResinModule final : public Module<D> {
   // (order = id) the time (key 0) and the position (keys 1..D).
   std::vector<OrderedTerm> weld_events_;
   bool front_series_started_ = false;  // the front events CSV of this run
+  int cg_iterations_ = 0;                 // of the last implicit viscous solve
 };
 
 }  // namespace sphdem

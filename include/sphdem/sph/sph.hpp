@@ -28,10 +28,14 @@ struct SphParams {
   bool variable_viscosity = false;
   MeltViscosity melt;
   double melt_temperature = 0;  // [K]
-  double mu_scale = 1;          // lattice correction of the viscous Laplacian
-  double grad_scale = 1;        // lattice correction of the kernel gradient
-  double alpha = 0;             // Monaghan artificial viscosity
-  double delta = 0;             // delta-SPH coefficient (0: off)
+  // numerics.viscous_integration implicit: the pair loop leaves the laminar
+  // term out and solve_implicit_viscosity (implicit_viscosity.hpp) applies
+  // it after the second kick; no viscous time-step limit.
+  bool implicit_viscosity = false;
+  double mu_scale = 1;    // lattice correction of the viscous Laplacian
+  double grad_scale = 1;  // lattice correction of the kernel gradient
+  double alpha = 0;       // Monaghan artificial viscosity
+  double delta = 0;       // delta-SPH coefficient (0: off)
   bool anti_clump = true;
   double anti_clump_eps = 0.2;
   int anti_clump_n = 4;
@@ -184,8 +188,12 @@ struct TimeStep {
   DtLimit limit = DtLimit::Cfl;
 };
 // mu_max: the largest particle viscosity of a law (negative: sp.mu).
+// With sp.implicit_viscosity there is no viscous limit.
 TimeStep choose_time_step(const Numerics& num, const SphParams& sp, double v_max, double a_max,
                           double mu_max = -1.0);
+// The explicit viscous limit viscous_factor h^2 rho0 / mu (infinite when
+// mu is 0), whether or not the case integrates the viscosity implicitly.
+double explicit_viscous_time_step(const Numerics& num, const SphParams& sp, double mu_max = -1.0);
 // The thermal limit thermal_factor h^2 rho0 c_p / k (sp.thermal only).
 double thermal_time_step(const SphParams& sp);
 

@@ -22,8 +22,11 @@ struct MorrisViscosity {
   using Reads = Fields<field::Vol>;
   using OwnReads = Fields<field::Rho>;
   static constexpr unsigned writes = kVisc;  // the loop multiplies it by v_i - vw_j
-  // A viscosity law runs viscosity_variable.hpp instead.
-  static bool active(const SphParams& sp) { return sp.mu > 0 && !sp.variable_viscosity; }
+  // A viscosity law runs viscosity_variable.hpp instead; implicit
+  // viscosity, src/sph/implicit_viscosity.cpp after the second kick.
+  static bool active(const SphParams& sp) {
+    return sp.mu > 0 && !sp.variable_viscosity && !sp.implicit_viscosity;
+  }
 
   double two_mu;  // 2 mu, over grad_scale since F carries it
   double eta2;

@@ -65,7 +65,10 @@ struct VariableViscosity {
   // shear-rate pass run (pass_loop.hpp).
   using OwnReads = Fields<field::Rho, field::ShearRate>;
   static constexpr unsigned writes = kVisc;
-  static bool active(const SphParams& sp) { return sp.variable_viscosity; }
+  // Implicit viscosity: src/sph/implicit_viscosity.cpp after the second kick.
+  static bool active(const SphParams& sp) {
+    return sp.variable_viscosity && !sp.implicit_viscosity;
+  }
 
   double scale;  // mu_scale / grad_scale, F carries grad_scale
   double eta2;

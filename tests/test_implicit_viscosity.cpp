@@ -1,0 +1,391 @@
+// Implicit viscosity (docs/physics.md "Implicit viscosity"):
+//  - the exact sums do not depend on the order of their terms;
+//  - the operator: the explicit Morris term's acceleration (Newtonian and
+//    harmonic-mean variable viscosity), symmetric (m_i K_ij = m_j K_ji),
+//    negative semi-definite with the walls at rest, zero on a uniform field;
+//  - the conjugate-gradient solve: the backward-Euler system holds at the
+//    end; too few iterations are reported as not converged;
+//  - start-up Couette at a viscosity where the explicit limit binds:
+//    implicit against explicit (at its own small step) and against the
+//    series solution; a solve that does not converge stops the run;
+//  - 1 against 2 and 3 ranks, bitwise.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "mpi_test_helpers.hpp"
+#include "sphdem/core/errors.hpp"
+#include "sphdem/core/exact_sum.hpp"
+#include "sphdem/neighbor/neighbor.hpp"
+#include "sphdem/sph/implicit_viscosity.hpp"
+#include "validation_helpers.hpp"
+
+namespace sphdem {
+namespace {
+
+// ------------------------------------------------------------ exact sums
+
+double exact_total(const std::vector<double>& terms) {
+  double max = 0;
+  for (double t : terms) max = std::max(max, std::abs(t));
+  const int s = exact_sum_scale(max);
+  Int128 sum = 0;
+  for (double t : terms) sum += exact_term(t, s);
+  return exact_value(sum, s);
+}
+
+TEST(ExactSum, IndependentOfTheOrderOfTheTerms) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<double> terms(5000);
+  for (double& t : terms) t = u(rng) * std::pow(10.0, 6 * u(rng));
+  const double ref = exact_total(terms);
+  double plain_ref = 0;
+  for (double t : terms) plain_ref += t;
+  bool plain_differs = false;
+  for (int k = 0; k < 5; ++k) {
+    std::shuffle(terms.begin(), terms.end(), rng);
+    EXPECT_EQ(exact_total(terms), ref) << "permutation " << k;
+    double plain = 0;
+    for (double t : terms) plain += t;
+    plain_differs = plain_differs || plain != plain_ref;
+  }
+  EXPECT_TRUE(plain_differs) << "the terms should be such that a plain sum depends on the order";
+  EXPECT_NEAR(ref, plain_ref, 1e-12 * 1e6 * 5000);
+  EXPECT_EQ(exact_total({0.0, 0.0}), 0.0);
+  EXPECT_EQ(exact_total({1.5, -0.25}), 1.25);
+}
+
+// ------------------------------------------------------------ the operator
+
+SphParams params() {
+  SphParams sp;
+  sp.spacing = 1e-3;
+  sp.h = 1.2e-3;
+  sp.rho0 = 1000;
+  sp.c0 = 10;
+  sp.mu = 0.05;
+  sp.mu_scale = 1.05;  // off 1 so that a misplaced factor shows
+  sp.grad_scale = 1.03;
+  sp.anti_clump = false;
+  sp.eta2 = 0.01 * sp.h * sp.h;
+  return sp;
+}
+
+// A jittered 6 x 6 block of resin above a row of wall particles, pressure
+// 0 (so only the viscous term acts), random velocities and viscosities.
+SphParticles<2> block(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  SphParticles<2> ps;
+  std::int64_t gid = 0;
+  for (int j = -2; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) {
+      const Kind kind = j < 0 ? Kind::Wall : Kind::Fluid;
+      const double jitter = kind == Kind::Fluid ? 0.15e-3 : 0.0;
+      const Vec<2> x(i * 1e-3 + jitter * u(rng), j * 1e-3 + jitter * u(rng));
+      const Vec<2> v = kind == Kind::Fluid ? Vec<2>(u(rng), u(rng)) : Vec<2>::Zero();
+      ps.push_owned(gid++, kind, -1, 1e-3 * (1 + 0.1 * u(rng)), x, v, 1000 * (1 + 0.01 * u(rng)));
+      ps.p.back() = 0.0;
+      ps.vwall.back() = kind == Kind::Fluid ? v : Vec<2>(0.3 * u(rng), 0.3 * u(rng));
+      ps.viscosity.back() = kind == Kind::Fluid ? 0.05 * (1.5 + u(rng)) : 0.0;
+    }
+  return ps;
+}
+
+void expect_matches_explicit(bool variable) {
+  std::mt19937_64 rng(3);
+  SphParticles<2> ps = block(rng);
+  SphParams sp = params();
+  sp.variable_viscosity = variable;
+  NeighborList<2> nl(2 * sp.h, 0.2 * sp.h);
+  nl.build(ps);
+  compute_fluid_rates<2>(sp, nl, ps);
+  ViscousOperator<2> op;
+  op.build(sp, nl, ps);
+  std::vector<Vec<2>> out;
+  op.apply(nl, ps, ps.vwall, out);
+  double scale = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) scale = std::max(scale, ps.a[i].norm());
+  ASSERT_GT(scale, 0);
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    for (int d = 0; d < 2; ++d) EXPECT_NEAR(out[i][d], ps.a[i][d], 1e-12 * scale) << i;
+  }
+}
+
+TEST(ViscousOperator, MatchesTheExplicitNewtonianTerm) {
+  expect_matches_explicit(false);
+}
+TEST(ViscousOperator, MatchesTheExplicitVariableViscosityTerm) {
+  expect_matches_explicit(true);
+}
+
+TEST(ViscousOperator, SymmetricAndNegativeSemiDefinite) {
+  std::mt19937_64 rng(5);
+  SphParticles<2> ps = block(rng);
+  SphParams sp = params();
+  sp.variable_viscosity = true;
+  NeighborList<2> nl(2 * sp.h, 0.2 * sp.h);
+  nl.build(ps);
+  ViscousOperator<2> op;
+  op.build(sp, nl, ps);
+  const std::int32_t* nb = nl.indices();
+  int pairs = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    for (std::size_t n = nl.begin(i); n < nl.end(i); ++n) {
+      const auto j = static_cast<std::size_t>(nb[n]);
+      EXPECT_LE(op.coeff[n], 0.0);
+      if (ps.kind[j] != Kind::Fluid) continue;
+      std::size_t back = nl.begin(j);
+      while (back < nl.end(j) && static_cast<std::size_t>(nb[back]) != i) ++back;
+      ASSERT_LT(back, nl.end(j));
+      const double kij = ps.mass[i] * op.coeff[n], kji = ps.mass[j] * op.coeff[back];
+      EXPECT_NEAR(kij, kji, 1e-13 * std::abs(kij));
+      pairs += op.coeff[n] < 0;
+    }
+  }
+  EXPECT_GT(pairs, 100);
+  // u^T M L u <= 0 with the walls at rest; L(constant) = 0 without walls.
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Vec<2>> field(ps.size(), Vec<2>::Zero()), out;
+    for (std::size_t i = 0; i < ps.size(); ++i)
+      if (ps.kind[i] == Kind::Fluid) field[i] = Vec<2>(u(rng), u(rng));
+    op.apply(nl, ps, field, out);
+    double q = 0, scale = 0;
+    for (std::size_t i = 0; i < ps.n_owned; ++i) {
+      q += ps.mass[i] * field[i].dot(out[i]);
+      scale += ps.mass[i] * std::abs(field[i].dot(out[i]));
+    }
+    EXPECT_LT(q, 0.0) << trial;
+    EXPECT_GT(scale, 0.0);
+  }
+  std::vector<Vec<2>> uniform(ps.size(), Vec<2>(0.7, -0.2)), out;
+  op.apply(nl, ps, uniform, out);
+  for (std::size_t i = 0; i < ps.n_owned; ++i) EXPECT_LT(out[i].norm(), 1e-9) << i;
+}
+
+ViscousSolveHooks one_rank_hooks() {
+  ViscousSolveHooks h;
+  h.forward = [](SphGroup) {};
+  h.max = [](std::span<double>) {};
+  h.exact_sum = [](std::span<Int128>) {};
+  return h;
+}
+
+TEST(ViscousSolve, SatisfiesTheBackwardEulerSystem) {
+  std::mt19937_64 rng(11);
+  SphParticles<2> ps = block(rng);
+  SphParams sp = params();
+  sp.variable_viscosity = true;
+  NeighborList<2> nl(2 * sp.h, 0.2 * sp.h);
+  nl.build(ps);
+  // 200 times the explicit limit 0.125 h^2 rho / mu.
+  const double dt = 200 * 0.125 * sp.h * sp.h * sp.rho0 / 0.125;
+  const std::vector<Vec<2>> v0 = ps.v;
+  const ViscousSolveStats s =
+      solve_implicit_viscosity<2>(sp, dt, 1e-12, 500, nl, ps, one_rank_hooks());
+  EXPECT_TRUE(s.converged);
+  EXPECT_GT(s.iterations, 3);
+  EXPECT_LE(s.residual, 1e-12);
+  // u - dt L u = v0 with the walls at their no-slip values.
+  std::vector<Vec<2>> field(ps.size()), lu;
+  for (std::size_t i = 0; i < ps.size(); ++i)
+    field[i] = ps.kind[i] == Kind::Fluid ? ps.v[i] : ps.vwall[i];
+  ViscousOperator<2> op;
+  op.build(sp, nl, ps);
+  op.apply(nl, ps, field, lu);
+  double change = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    change = std::max(change, (ps.v[i] - v0[i]).norm());
+    for (int d = 0; d < 2; ++d) EXPECT_NEAR(ps.v[i][d] - dt * lu[i][d], v0[i][d], 1e-9) << i;
+  }
+  EXPECT_GT(change, 0.1) << "the solve should have smoothed the random field";
+}
+
+TEST(ViscousSolve, TooFewIterationsAreReported) {
+  std::mt19937_64 rng(13);
+  SphParticles<2> ps = block(rng);
+  const SphParams sp = params();
+  NeighborList<2> nl(2 * sp.h, 0.2 * sp.h);
+  nl.build(ps);
+  const double dt = 200 * 0.125 * sp.h * sp.h * sp.rho0 / sp.mu;
+  const ViscousSolveStats s =
+      solve_implicit_viscosity<2>(sp, dt, 1e-12, 2, nl, ps, one_rank_hooks());
+  EXPECT_FALSE(s.converged);
+  EXPECT_EQ(s.iterations, 2);
+  EXPECT_GT(s.residual, 1e-12);
+}
+
+// Frozen resin is a known value, like a wall: it keeps its velocity.
+TEST(ViscousSolve, FrozenParticlesKeepTheirVelocity) {
+  std::mt19937_64 rng(17);
+  SphParticles<2> ps = block(rng);
+  const SphParams sp = params();
+  NeighborList<2> nl(2 * sp.h, 0.2 * sp.h);
+  nl.build(ps);
+  std::size_t frozen = 0;
+  while (ps.kind[frozen] != Kind::Fluid) ++frozen;
+  ps.frozen[frozen] = 1;
+  const Vec<2> before = ps.v[frozen];
+  const double dt = 50 * 0.125 * sp.h * sp.h * sp.rho0 / sp.mu;
+  EXPECT_TRUE(solve_implicit_viscosity<2>(sp, dt, 1e-10, 500, nl, ps, one_rank_hooks()).converged);
+  EXPECT_EQ(ps.v[frozen], before);
+}
+
+// ------------------------------------------------------------ Couette
+
+constexpr double kL = 1e-3, kNu = 1e-3, kV0 = 1e-2;
+
+double couette_error(const Simulation<2>& sim) {
+  return testing::relative_l2_ux<2>(
+      sim.particles(), [&](double y) { return testing::couette(y, sim.time(), kL, kNu, kV0); });
+}
+
+// u_x per fluid particle in global-id order (one rank).
+std::vector<double> ux_by_gid(const Simulation<2>& sim) {
+  const auto& ps = sim.particles();
+  std::vector<std::pair<std::int64_t, double>> rows;
+  for (std::size_t i = 0; i < ps.n_owned; ++i)
+    if (ps.kind[i] == Kind::Fluid) rows.emplace_back(ps.gid[i], ps.v[i][0]);
+  std::sort(rows.begin(), rows.end());
+  std::vector<double> u;
+  for (const auto& r : rows) u.push_back(r.second);
+  return u;
+}
+
+double relative_l2(const std::vector<double>& a, const std::vector<double>& b) {
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    num += (a[i] - b[i]) * (a[i] - b[i]);
+    den += b[i] * b[i];
+  }
+  return std::sqrt(num / den);
+}
+
+TEST(ImplicitCouette, MatchesExplicitAndTheSeriesSolution) {
+  const Comm comm(MPI_COMM_SELF);
+  RunOptions opt;
+  opt.write_output = false;
+  // Fixed steps that land on the comparison times: implicit at 56 times the
+  // explicit limit (4.5e-7 s; CFL 2.9e-5 s), explicit just below its limit.
+  Simulation<2> implicit(
+      testing::load_input("validation/couette_implicit.yaml", {"numerics.fixed_dt=2.5e-5"}), comm,
+      opt);
+  Simulation<2> explicit_run(
+      testing::load_input("validation/couette_implicit.yaml",
+                          {"numerics.viscous_integration=explicit", "numerics.fixed_dt=4.0e-7"}),
+      comm, opt);
+  for (double tau : {0.25, 0.5, 1.0}) {
+    const double t = tau * kL * kL / kNu;
+    testing::run_until(implicit, t);
+    testing::run_until(explicit_run, t);
+    ASSERT_NEAR(implicit.time(), explicit_run.time(), 1e-9 * t);
+    ASSERT_EQ(2 * explicit_run.step(), 125 * implicit.step());
+    const double vs_explicit = relative_l2(ux_by_gid(implicit), ux_by_gid(explicit_run));
+    const double vs_series = couette_error(implicit);
+    std::printf(
+        "[          ] nu t/L^2 = %.2f: implicit %lld steps, explicit %lld steps; implicit vs "
+        "explicit %.4f, vs series %.4f, explicit vs series %.4f, cg %d\n",
+        tau, static_cast<long long>(implicit.step()), static_cast<long long>(explicit_run.step()),
+        vs_explicit, vs_series, couette_error(explicit_run),
+        implicit.resin()->viscous_iterations());
+    EXPECT_LT(vs_explicit, tau < 0.5 ? 0.02 : 0.01) << "tau " << tau;
+    EXPECT_LT(vs_series, tau < 0.5 ? 0.02 : 0.01) << "tau " << tau;
+  }
+}
+
+TEST(ImplicitCouette, AnUnconvergedSolveStopsTheRun) {
+  const Comm comm(MPI_COMM_SELF);
+  RunOptions opt;
+  opt.write_output = false;
+  Simulation<2> sim(testing::load_input("validation/couette_implicit.yaml",
+                                        {"numerics.implicit_max_iterations=1",
+                                         "numerics.implicit_tolerance=1e-12"}),
+                    comm, opt);
+  try {
+    sim.advance(3);
+    FAIL() << "expected the solve to fail";
+  } catch (const CollectiveSimulationError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("implicit viscous solve did not converge"), std::string::npos) << what;
+    EXPECT_NE(what.find("numerics.implicit_max_iterations = 1"), std::string::npos) << what;
+  }
+}
+
+// The adaptive step of an implicit run is the CFL limit, not the viscous one.
+TEST(ImplicitCouette, TheStepIsNotViscous) {
+  const Comm comm(MPI_COMM_SELF);
+  RunOptions opt;
+  opt.write_output = false;
+  Simulation<2> implicit(testing::load_input("validation/couette_implicit.yaml"), comm, opt);
+  Simulation<2> explicit_run(testing::load_input("validation/couette_implicit.yaml",
+                                                 {"numerics.viscous_integration=explicit"}),
+                             comm, opt);
+  implicit.advance(3);
+  explicit_run.advance(3);
+  EXPECT_EQ(implicit.last_dt_limit(), DtLimit::Cfl);
+  EXPECT_EQ(explicit_run.last_dt_limit(), DtLimit::Viscous);
+  EXPECT_GT(implicit.time(), 50 * explicit_run.time());
+}
+
+TEST(ImplicitKeys, FixedStepAboveTheViscousLimitOnlyWhenImplicit) {
+  // The explicit limit is 4.5e-7 s, the CFL limit 2.9e-5 s.
+  EXPECT_NO_THROW(
+      testing::load_input("validation/couette_implicit.yaml", {"numerics.fixed_dt=1e-5"}));
+  try {
+    testing::load_input("validation/couette_implicit.yaml",
+                        {"numerics.fixed_dt=1e-5", "numerics.viscous_integration=explicit"});
+    FAIL() << "expected the viscous limit";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("viscous_factor"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(
+      testing::load_input("validation/couette_implicit.yaml", {"numerics.viscous_integration=cg"}),
+      InputError);
+}
+
+// ------------------------------------------------------------ ranks
+
+struct Row {
+  std::int64_t gid = 0;
+  double value[4] = {};
+};
+
+std::vector<Row> run_rows(const Comm& comm, int steps) {
+  const Case c =
+      testing::load_input("validation/couette_implicit.yaml",
+                          {"parallel.balance_every=5", "parallel.imbalance_threshold=0.001"});
+  RunOptions opt;
+  opt.write_output = false;
+  Simulation<2> sim(c, comm, opt);
+  sim.advance(steps);
+  const auto& ps = sim.particles();
+  std::vector<Row> rows;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    rows.push_back({ps.gid[i], {ps.x[i][0], ps.x[i][1], ps.v[i][0], ps.v[i][1]}});
+  }
+  return testing_mpi::gather_rows(comm, rows);
+}
+
+TEST(ImplicitParallel, RankIndependent) {
+  const Comm world;
+  ASSERT_GT(world.size(), 1) << "a comparison with one rank needs several ranks";
+  constexpr int kSteps = 25;
+  std::vector<Row> ref;
+  if (world.root()) ref = run_rows(Comm(MPI_COMM_SELF), kSteps);
+  testing_mpi::wait_for_root(world);
+  const std::vector<Row> got = run_rows(world, kSteps);
+  if (!world.root()) return;
+  ASSERT_EQ(ref.size(), got.size());
+  EXPECT_EQ(testing_mpi::bitwise_mismatches(ref, got), 0u);
+}
+
+}  // namespace
+}  // namespace sphdem
