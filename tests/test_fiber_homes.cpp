@@ -124,8 +124,14 @@ DemParticles<D> share(DemParticles<D> all, Ghost ghost) {
   }
   std::vector<std::size_t> order = mine;
   order.insert(order.end(), ghosts.begin(), ghosts.end());
+  const std::size_t kept = order.size();
+  // permute_owned takes a whole permutation: the rest go last, then are cut.
+  std::vector<bool> used(all.n_owned, false);
+  for (const std::size_t i : order) used[i] = true;
+  for (std::size_t i = 0; i < all.n_owned; ++i)
+    if (!used[i]) order.push_back(i);
   all.permute_owned(order);
-  all.resize(order.size());
+  all.resize(kept);
   all.n_owned = mine.size();
   return all;
 }

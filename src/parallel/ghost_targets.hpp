@@ -122,10 +122,8 @@ void build_ghosts(const Decomposition<D>& dec, P& ps, double range, GhostPlan<D>
 
   // Every ghost field once (the constants are never sent again).
   const std::size_t n_own = ps.n_owned;
-  // Room for exactly the ghosts: growing by resize would double every
-  // field's capacity (a whole copy of the owned fields) for a thin halo.
-  ps.for_each_field(
-      [n = n_own + plan.recv.total()](const char*, auto& field, FieldPolicy) { field.reserve(n); });
+  // The fields grow by a small margin (resize_field, field_registry.hpp),
+  // not by doubling, so a thin halo costs no copy of the owned fields.
   ps.resize(n_own + plan.recv.total());
   ps.n_owned = n_own;
   send_fields(

@@ -70,7 +70,7 @@ InitialCounts fill_distributed(const Case& c, Decomposition<D>& dec, SphParticle
 
   // 1. Count this rank's rows.
   std::vector<std::int64_t> work(static_cast<std::size_t>(dec.blocks()), 0);
-  std::vector<std::int64_t> hits(lattice.fill_shapes() + 1, 0);  // + empty cavity
+  std::vector<std::int64_t> hits(lattice.fill_shapes() + 1, 0);                 // + empty cavity
   std::vector<std::int64_t> row_counts(2 * static_cast<std::size_t>(rows), 0);  // resin, walls
   std::vector<Segment> segments;
   for (std::int64_t q = comm.rank(); q < rows; q += ranks) {

@@ -96,7 +96,7 @@ class ResinModule final : public Module<D> {
   // (order = id) the time (key 0) and the position (keys 1..D).
   std::vector<OrderedTerm> weld_events_;
   bool front_series_started_ = false;  // the front events CSV of this run
-  int cg_iterations_ = 0;                 // of the last implicit viscous solve
+  int cg_iterations_ = 0;              // of the last implicit viscous solve
 };
 
 }  // namespace sphdem
