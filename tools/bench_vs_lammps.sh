@@ -112,9 +112,32 @@ build_peer() {
   echo "+ write $apt/sources.list (Debian 13 'trixie' deb-src)"
   ((DRY)) || echo "deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian trixie main" >"$apt/sources.list"
   run apt-get "${opts[@]}" update
-  run_in "$PEER_DIR" apt-get "${opts[@]}" source lammps
+  # Some mirrors serve the tarballs but not the .dsc; then apt-get source
+  # fails after downloading them, and they are unpacked here the way
+  # dpkg-source would (upstream tarball, debian/ tarball, its patch series).
+  run_in "$PEER_DIR" apt-get "${opts[@]}" source lammps || ((DRY)) ||
+    echo "bench_vs_lammps: apt-get source failed; unpacking the downloaded tarballs by hand" >&2
   local src
   src=$( ( ls -d "$PEER_DIR"/lammps-*/ 2>/dev/null || true ) | head -1)
+  if [[ -z "$src" ]] && ! ((DRY)); then
+    local orig deb
+    orig=$( ( ls "$PEER_DIR"/lammps_*.orig.tar.* 2>/dev/null || true ) | head -1)
+    deb=$( ( ls "$PEER_DIR"/lammps_*.debian.tar.* 2>/dev/null || true ) | head -1)
+    [[ -n "$orig" ]] || { echo "bench_vs_lammps: apt-get source lammps downloaded no upstream tarball into $PEER_DIR" >&2; exit 1; }
+    local ver
+    ver=$(basename "$orig" | sed -E 's/^lammps_(.*)\.orig\.tar\..*$/\1/')
+    src="$PEER_DIR/lammps-$ver/"
+    run mkdir -p "$src"
+    run tar -xf "$orig" -C "$src" --strip-components=1
+    if [[ -n "$deb" ]]; then
+      run tar -xf "$deb" -C "$src"
+      local p
+      while read -r p; do
+        [[ -z "$p" || "$p" == \#* ]] && continue
+        run patch -d "$src" -p1 -s -i "debian/patches/$p"
+      done <"${src}debian/patches/series"
+    fi
+  fi
   ((DRY)) && src="$PEER_DIR/lammps-<version>/"
   [[ -n "$src" ]] || { echo "bench_vs_lammps: apt-get source lammps left no lammps-*/ in $PEER_DIR" >&2; exit 1; }
   case "$src" in *20250204*|*"<version>"*) ;; *) echo "bench_vs_lammps: warning: $src is not upstream 20250204, the version of the published comparisons" >&2 ;; esac
