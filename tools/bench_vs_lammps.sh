@@ -18,6 +18,9 @@ STEPS=2000
 OUT="$ROOT/out/bench_vs_lammps"
 DRY=0
 BUILD_PEER=0
+# The shipped cases' physics (inputs/plate.yaml): bench_sph's channel has
+# anti-clump and Morris viscosity on; delta-SPH is added here.
+DEFAULT_SETS=("numerics.delta_sph=0.1")
 SETS=()
 
 usage() {
@@ -39,8 +42,12 @@ options:
   --ranks "1 2"        MPI rank counts                          [$RANKS]
   --rounds N           alternating rounds per case and rank count [$ROUNDS]
   --steps N            steps of both codes                      [$STEPS]
-  --set KEY=VALUE      a case-file override for sphdem (repeatable), e.g.
-                       --set numerics.delta_sph=0.1 (the shipped cases' options)
+  --set KEY=VALUE      a case-file override for sphdem (repeatable), added to
+                       the defaults: ${DEFAULT_SETS[*]} (with bench_sph's
+                       anti-clump and Morris viscosity, the physics of the
+                       shipped cases, inputs/plate.yaml)
+  --bare               drop the default overrides (the peer deck's physics
+                       plus anti-clump, as measured before issue 19)
   --bench PATH         sphdem's bench_sph           [build/release/bench/bench_sph]
   --lmp PATH           the LAMMPS executable (also \$LMP; else lmp on PATH,
                        else build/peers/lammps/build/lmp)
@@ -69,6 +76,7 @@ while (($#)); do
     --bench) BENCH="$2"; shift 2 ;;
     --lmp) LMP="$2"; shift 2 ;;
     --build-peer) BUILD_PEER=1; shift ;;
+    --bare) DEFAULT_SETS=(); shift ;;
     --out) OUT="$2"; shift 2 ;;
     --dry-run) DRY=1; shift ;;
     -h | --help) usage; exit 0 ;;
@@ -167,7 +175,7 @@ if ! ((DRY)); then
 fi
 
 sets=""
-for s in "${SETS[@]}"; do sets+=" --set $s"; done
+for s in "${DEFAULT_SETS[@]}" "${SETS[@]}"; do sets+=" --set $s"; done
 mpi="mpirun --oversubscribe"
 [[ $(id -u) -eq 0 ]] && mpi+=" --allow-run-as-root"
 
