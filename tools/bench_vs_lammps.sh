@@ -58,6 +58,7 @@ options:
                        sources are not touched), then a Release MPI build with
                        SPH, GRANULAR, BPM, MOLECULE (about 10 min on 2 cores).
                        Needs dpkg-dev: scripts/install-deps.sh --peer
+  --peer-dir DIR        where --build-peer downloads and builds  [build/peers/lammps]
   --out DIR            hyperfine's JSON per round              [out/bench_vs_lammps]
   --dry-run            print what would run (the peer build too), run nothing
   -h, --help           this help
@@ -78,11 +79,13 @@ while (($#)); do
     --build-peer) BUILD_PEER=1; shift ;;
     --bare) DEFAULT_SETS=(); shift ;;
     --out) OUT="$2"; shift 2 ;;
+    --peer-dir) PEER_DIR="$2"; shift 2 ;;
     --dry-run) DRY=1; shift ;;
     -h | --help) usage; exit 0 ;;
     *) echo "bench_vs_lammps: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
+PEER_DIR=$(realpath -m "$PEER_DIR")  # run_in changes directory
 [[ "$ROUNDS" =~ ^[1-9][0-9]*$ ]] || { echo "bench_vs_lammps: --rounds must be a positive integer, not '$ROUNDS'" >&2; exit 2; }
 [[ "$STEPS" =~ ^[1-9][0-9]*$ ]] || { echo "bench_vs_lammps: --steps must be a positive integer, not '$STEPS'" >&2; exit 2; }
 for r in $RANKS; do
