@@ -304,16 +304,19 @@ inline double sum_partials(const double (&p)[kSumLanes]) {
 
 // Step 3 of a chunk of cnt pairs: row m of the chunk's per-pair values into
 // partials part[m], pair k into part[m][k mod kSumLanes] (a chunk starts at
-// a multiple of kSumLanes in the list); the last block's unused lanes are
-// zeroed first, so they add exact zeros.
+// a multiple of kSumLanes in the list). The last block's lanes past cnt add
+// exact zeros by a select (rows must be initialized there: the caller zeroes
+// them once; zeroing the tail per chunk became a memset call per row).
 template <std::size_t kRows>
-inline void add_to_partials(double (&rows)[kRows][kChunk], std::size_t cnt,
+inline void add_to_partials(const double (&rows)[kRows][kChunk], std::size_t cnt,
                             double (&part)[kRows][kSumLanes]) {
-  const std::size_t end = (cnt + kSumLanes - 1) / kSumLanes * kSumLanes;
+  const std::size_t full = cnt / kSumLanes * kSumLanes;
   for (std::size_t m = 0; m < kRows; ++m) {
-    for (std::size_t k = cnt; k < end; ++k) rows[m][k] = 0.0;
-    for (std::size_t k0 = 0; k0 < end; k0 += kSumLanes)
+    for (std::size_t k0 = 0; k0 < full; k0 += kSumLanes)
       for (std::size_t l = 0; l < kSumLanes; ++l) part[m][l] += rows[m][k0 + l];
+    if (full < cnt)
+      for (std::size_t l = 0; l < kSumLanes; ++l)
+        part[m][l] += full + l < cnt ? rows[m][full + l] : 0.0;
   }
 }
 
@@ -349,7 +352,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
     alignas(64) double lanes[Lanes::kSize * kChunk];
     // Per pair: rows 0..D-1 the acceleration, row D the density rate.
-    alignas(64) double out_lane[D + 1][kChunk];
+    alignas(64) double out_lane[D + 1][kChunk] = {};
     alignas(64) double part[D + 1][kSumLanes];
 
     for (std::size_t i = 0; i < ps.n_owned; ++i) {

@@ -102,7 +102,7 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
   const std::int32_t* nb = nl.indices();
   constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
   alignas(64) double lanes[Lanes::kSize * kChunk];
-  alignas(64) double rows[kSums][kChunk];
+  alignas(64) double rows[kSums][kChunk] = {};  // add_to_partials reads whole blocks
   alignas(64) double part[kSums][kSumLanes];
   std::vector<double>& out = P::output(ps);
 
