@@ -11,14 +11,10 @@
 //      vectorizes: the kernel values, then every active term's pair
 //      function in list order (pairs beyond the support get F = 0, a select
 //      instead of a `continue`, and contribute exact zeros);
-//   3. adds the per-pair contributions into kSumLanes partial sums, pair k
-//      of the list (counted from the list's start) into partial k mod
-//      kSumLanes, one vector add per kSumLanes pairs; after the last chunk
-//      a fixed tree adds the partials.
-// The neighbour list is sorted by global id, so which pair lands in which
-// partial, the order of each partial's additions and the tree depend on the
-// list alone: the result does not depend on the particle layout or the rank
-// count (docs/performance.md, "The deterministic vectorized sum").
+//   3. sums the per-pair contributions in list order.
+// The neighbour list is sorted by global id, and step 3 is a plain
+// sequential sum in that order, so the result does not depend on the
+// particle layout or the rank count (docs/performance.md).
 //
 // Which terms are on (and their compile-time variants) is a mixed-radix
 // number, one digit per term; the loop is instantiated for every
@@ -289,37 +285,6 @@ struct GatherLanes<D, Fields<Fs...>> {
   }
 };
 
-// Partial sums per particle in step 3: one AVX-512 register of doubles.
-inline constexpr std::size_t kSumLanes = 8;
-static_assert(kChunk % kSumLanes == 0, "a chunk holds whole blocks of partial sums");
-
-// The partials' fixed tree, ((p0 + p4) + (p2 + p6)) + ((p1 + p5) + (p3 + p7)):
-// halving, as a vector reduction does.
-inline double sum_partials(const double (&p)[kSumLanes]) {
-  double h[kSumLanes / 2];
-  for (std::size_t l = 0; l < kSumLanes / 2; ++l) h[l] = p[l] + p[l + kSumLanes / 2];
-  const double q0 = h[0] + h[2], q1 = h[1] + h[3];
-  return q0 + q1;
-}
-
-// Step 3 of a chunk of cnt pairs: row m of the chunk's per-pair values into
-// partials part[m], pair k into part[m][k mod kSumLanes] (a chunk starts at
-// a multiple of kSumLanes in the list). The last block's lanes past cnt add
-// exact zeros by a select (rows must be initialized there: the caller zeroes
-// them once; zeroing the tail per chunk became a memset call per row).
-template <std::size_t kRows>
-inline void add_to_partials(const double (&rows)[kRows][kChunk], std::size_t cnt,
-                            double (&part)[kRows][kSumLanes]) {
-  const std::size_t full = cnt / kSumLanes * kSumLanes;
-  for (std::size_t m = 0; m < kRows; ++m) {
-    for (std::size_t k0 = 0; k0 < full; k0 += kSumLanes)
-      for (std::size_t l = 0; l < kSumLanes; ++l) part[m][l] += rows[m][k0 + l];
-    if (full < cnt)
-      for (std::size_t l = 0; l < kSumLanes; ++l)
-        part[m][l] += full + l < cnt ? rows[m][full + l] : 0.0;
-  }
-}
-
 template <int D, class List, std::size_t C>
 void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
   using Sel = typename Registry<List>::template Select<C>;
@@ -351,9 +316,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     const std::int32_t* nb = nl.indices();
     constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
     alignas(64) double lanes[Lanes::kSize * kChunk];
-    // Per pair: rows 0..D-1 the acceleration, row D the density rate.
-    alignas(64) double out_lane[D + 1][kChunk] = {};
-    alignas(64) double part[D + 1][kSumLanes];
+    alignas(64) double acc_lane[D][kChunk];  // per-pair acceleration
+    alignas(64) double drho_lane[kChunk];    // per-pair density rate
 
     for (std::size_t i = 0; i < ps.n_owned; ++i) {
       if (ps.kind[i] != Kind::Fluid) continue;
@@ -363,8 +327,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
           OwnView<Record, typename MergeAll<false, typename S::Term::Reads,
                                             typename OwnReadsOf<typename S::Term>::type>::type>{
               own})...};
-      for (auto& row : part)
-        for (double& p : row) p = 0.0;
+      Vec<D> acc = Vec<D>::Zero();
+      double drho_sum = 0.0;
       for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
         const std::size_t cnt = std::min(kChunk, e - b);
 
@@ -401,25 +365,26 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             if constexpr ((kWrites & kVisc) != 0) {
               const double w = lanes[(Lanes::template offset<field::VelWall>() + d) * kChunk + k];
               if constexpr ((kWrites & kBracket) != 0)
-                out_lane[d][k] = s.visc * w - pf * x;
+                acc_lane[d][k] = s.visc * w - pf * x;
               else
-                out_lane[d][k] = s.visc * w;
+                acc_lane[d][k] = s.visc * w;
             } else if constexpr ((kWrites & kBracket) != 0) {
-              out_lane[d][k] = -(pf * x);
+              acc_lane[d][k] = -(pf * x);
             } else {
-              out_lane[d][k] = 0.0;
+              acc_lane[d][k] = 0.0;
             }
           }
-          out_lane[D][k] = (kWrites & kDrho) != 0 ? s.drho : 0.0;
+          drho_lane[k] = (kWrites & kDrho) != 0 ? s.drho : 0.0;
         }
 
-        // 3. Into the partial sums.
-        add_to_partials(out_lane, cnt, part);
+        // 3. Sum in list (global-id) order.
+        for (std::size_t k = 0; k < cnt; ++k) {
+          for (int d = 0; d < D; ++d) acc[d] += acc_lane[d][k];
+          drho_sum += drho_lane[k];
+        }
       }
-      Vec<D> acc;
-      for (int d = 0; d < D; ++d) acc[d] = sum_partials(part[d]);
       ps.a[i] = acc + g;
-      ps.drho[i] = sum_partials(part[D]);
+      ps.drho[i] = drho_sum;
     }
   }(Sel{});
 }

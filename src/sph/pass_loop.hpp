@@ -21,11 +21,11 @@
 //
 // The loop is the pair loop's (pair_loop.hpp): records of the declared
 // fields, gathered lanes, a branch-free pair function over a chunk (pairs
-// beyond the support have F = 0), then the same partial sums by position
-// in the neighbour list (sorted by global id) and fixed tree, so the result
-// is the same bits at every rank count. It writes the owned resin particles (walls get 0); the
-// solver forwards the group to the ghosts. A pass runs when an active term reads its Output or
-// output.fields names it, and never otherwise.
+// beyond the support have F = 0), then a sequential sum in the neighbour
+// list's global-id order, so the result is the same bits at every rank
+// count. It writes the owned resin particles (walls get 0); the solver
+// forwards the group to the ghosts. A pass runs when an active term reads
+// its Output or output.fields names it, and never otherwise.
 #include <algorithm>
 #include <cstddef>
 #include <string_view>
@@ -102,8 +102,7 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
   const std::int32_t* nb = nl.indices();
   constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
   alignas(64) double lanes[Lanes::kSize * kChunk];
-  alignas(64) double rows[kSums][kChunk] = {};  // add_to_partials reads whole blocks
-  alignas(64) double part[kSums][kSumLanes];
+  alignas(64) double part[kSums][kChunk];
   std::vector<double>& out = P::output(ps);
 
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
@@ -113,8 +112,7 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
       continue;
     }
     const double* own = rec[i].v;
-    for (auto& row : part)
-      for (double& p : row) p = 0.0;
+    double sums[kSums] = {};
     for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
       const std::size_t cnt = std::min(kChunk, e - b);
       for (std::size_t k = 0; k < cnt; ++k)
@@ -133,12 +131,12 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
         const double F = kf * t * t * t * inv_h * inv_h * sp.grad_scale;
         double s[kSums];
         pass.pair(View{lanes, k, own, r2, r, q, t, F}, s);
-        for (std::size_t m = 0; m < kSums; ++m) rows[m][k] = s[m];
+        for (std::size_t m = 0; m < kSums; ++m) part[m][k] = s[m];
       }
-      add_to_partials(rows, cnt, part);
+      // In list (global-id) order.
+      for (std::size_t k = 0; k < cnt; ++k)
+        for (std::size_t m = 0; m < kSums; ++m) sums[m] += part[m][k];
     }
-    double sums[kSums];
-    for (std::size_t m = 0; m < kSums; ++m) sums[m] = sum_partials(part[m]);
     out[i] = pass.template finish<D>(sums);
     // Optional: more fields from the same sums (store).
     if constexpr (requires { pass.template store<D>(sums, ps, i); })
