@@ -9,7 +9,11 @@ peer, side by side") without the real codes: no timings are taken here.
   - a full run with stand-ins for bench_sph and lmp (shell scripts that log
     their arguments) alternates sphdem, LAMMPS continuity, LAMMPS summation
     in every round, passes --set on to sphdem, and prints one table row per
-    case and rank count with a median and range per ratio.
+    case and rank count with a median and range per ratio;
+  - sphdem runs with the shipped cases' delta-SPH unless --bare;
+  - a mirror without the .dsc (apt-get source fails after downloading the
+    tarballs, stand-ins for apt-get and cmake): the tarballs are unpacked,
+    Debian's patch series applied, and the peer built from that source.
 
 usage: check_bench_vs_lammps.py SOURCE_DIR WORK_DIR
 """
@@ -22,7 +26,7 @@ import sys
 if len(sys.argv) != 3 or sys.argv[1] in ("-h", "--help"):
     print(__doc__)
     sys.exit(0 if len(sys.argv) == 2 else 2)
-src, work = sys.argv[1:3]
+src, work = sys.argv[1], os.path.abspath(sys.argv[2])
 shutil.rmtree(work, ignore_errors=True)
 os.makedirs(work)
 script = os.path.join(src, "tools", "bench_vs_lammps.sh")
@@ -92,6 +96,56 @@ expect(all("--set numerics.delta_sph=0.1" in c for c in calls if c.startswith("s
 expect(all("-var nsteps 10" in c for c in calls if c.startswith("lammps")), "--steps reaches the peer")
 row = re.search(r"^\| 21k \| 1 \| 2 \|( [0-9.]+ \([0-9.]+-[0-9.]+\) \|){3}$", r.stdout, re.M)
 expect(row is not None, "one table row: median (min-max) of three ratios")
+
+# The shipped cases' physics by default (delta-SPH), none with --bare.
+r = run("--dry-run", "--cases", "21k", "--ranks", "1", "--rounds", "1", "--lmp", fake_lmp)
+expect(r.returncode == 0 and "--set numerics.delta_sph=0.1" in r.stdout.replace("\\ ", " "),
+       "sphdem runs with delta-SPH by default")
+r = run("--dry-run", "--bare", "--cases", "21k", "--ranks", "1", "--rounds", "1", "--lmp", fake_lmp)
+expect(r.returncode == 0 and "delta_sph" not in r.stdout, "--bare drops the default overrides")
+
+# A mirror that serves the tarballs but not the .dsc: apt-get source fails
+# after the download; the script unpacks the tarballs, applies the patch
+# series and builds from there. Stand-ins for apt-get and cmake.
+fakebin = os.path.join(work, "fakebin")
+stage = os.path.join(work, "stage")
+os.makedirs(os.path.join(stage, "up", "lammps-4Feb2025", "cmake"))
+os.makedirs(os.path.join(stage, "deb", "debian", "patches"))
+with open(os.path.join(stage, "up", "lammps-4Feb2025", "cmake", "version.txt"), "w") as f:
+    f.write("upstream\n")
+with open(os.path.join(stage, "deb", "debian", "patches", "series"), "w") as f:
+    f.write("# Debian's patches\nfix.patch\n")
+with open(os.path.join(stage, "deb", "debian", "patches", "fix.patch"), "w") as f:
+    f.write("--- a/cmake/version.txt\n+++ b/cmake/version.txt\n@@ -1 +1 @@\n-upstream\n+patched\n")
+subprocess.run(["tar", "-cJf", os.path.join(stage, "lammps_20250204+dfsg.1.orig.tar.xz"), "-C",
+                os.path.join(stage, "up"), "lammps-4Feb2025"], check=True)
+subprocess.run(["tar", "-cJf", os.path.join(stage, "lammps_20250204+dfsg.1-2.debian.tar.xz"), "-C",
+                os.path.join(stage, "deb"), "debian"], check=True)
+os.makedirs(fakebin)
+with open(os.path.join(fakebin, "apt-get"), "w") as f:
+    f.write(f'#!/bin/sh\ncase "$*" in *" source lammps") cp {stage}/lammps_*.tar.xz . ; '
+            f'echo "E: Failed to fetch lammps_20250204+dfsg.1-2.dsc  404  Not Found" >&2; exit 100 ;; '
+            f'esac\nexit 0\n')
+with open(os.path.join(fakebin, "cmake"), "w") as f:
+    f.write(f'#!/bin/sh\necho "cmake $*" >> {log}\nif [ "$1" = --build ]; then '
+            f'cp {fake_lmp} "$2/lmp"; else mkdir -p "$4"; fi\n')
+for b in ("apt-get", "cmake"):
+    os.chmod(os.path.join(fakebin, b), 0o755)
+open(log, "w").close()
+peer = os.path.join(work, "peer")
+r = run("--build-peer", "--peer-dir", peer, "--cases", "21k", "--ranks", "1", "--rounds", "1",
+        "--steps", "10", "--bench", fake_bench, "--out", os.path.join(work, "built"),
+        env={"PATH": fakebin + ":/usr/bin:/bin"})
+print(r.stdout, r.stderr)
+unpacked = os.path.join(peer, "lammps-20250204+dfsg.1")
+version = os.path.join(unpacked, "cmake", "version.txt")
+expect(r.returncode == 0, "a build from the downloaded tarballs exits 0")
+expect(os.path.exists(version) and open(version).read() == "patched\n",
+       "the upstream tarball is unpacked and Debian's patch series applied")
+calls = open(log).read().splitlines()
+expect(any(c.startswith(f"cmake -S {unpacked}/cmake") and "PKG_SPH=yes" in c for c in calls),
+       "the peer is configured from the unpacked source with the SPH package")
+expect(any(c.startswith("lammps") for c in calls), "the comparison then runs the built peer")
 
 if failures:
     print(f"{len(failures)} failure(s)")

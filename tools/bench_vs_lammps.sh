@@ -18,6 +18,9 @@ STEPS=2000
 OUT="$ROOT/out/bench_vs_lammps"
 DRY=0
 BUILD_PEER=0
+# The shipped cases' physics (inputs/plate.yaml): bench_sph's channel has
+# anti-clump and Morris viscosity on; delta-SPH is added here.
+DEFAULT_SETS=("numerics.delta_sph=0.1")
 SETS=()
 
 usage() {
@@ -39,8 +42,12 @@ options:
   --ranks "1 2"        MPI rank counts                          [$RANKS]
   --rounds N           alternating rounds per case and rank count [$ROUNDS]
   --steps N            steps of both codes                      [$STEPS]
-  --set KEY=VALUE      a case-file override for sphdem (repeatable), e.g.
-                       --set numerics.delta_sph=0.1 (the shipped cases' options)
+  --set KEY=VALUE      a case-file override for sphdem (repeatable), added to
+                       the defaults: ${DEFAULT_SETS[*]} (with bench_sph's
+                       anti-clump and Morris viscosity, the physics of the
+                       shipped cases, inputs/plate.yaml)
+  --bare               drop the default overrides (the peer deck's physics
+                       plus anti-clump, as measured before issue 19)
   --bench PATH         sphdem's bench_sph           [build/release/bench/bench_sph]
   --lmp PATH           the LAMMPS executable (also \$LMP; else lmp on PATH,
                        else build/peers/lammps/build/lmp)
@@ -51,6 +58,7 @@ options:
                        sources are not touched), then a Release MPI build with
                        SPH, GRANULAR, BPM, MOLECULE (about 10 min on 2 cores).
                        Needs dpkg-dev: scripts/install-deps.sh --peer
+  --peer-dir DIR        where --build-peer downloads and builds  [build/peers/lammps]
   --out DIR            hyperfine's JSON per round              [out/bench_vs_lammps]
   --dry-run            print what would run (the peer build too), run nothing
   -h, --help           this help
@@ -69,12 +77,15 @@ while (($#)); do
     --bench) BENCH="$2"; shift 2 ;;
     --lmp) LMP="$2"; shift 2 ;;
     --build-peer) BUILD_PEER=1; shift ;;
+    --bare) DEFAULT_SETS=(); shift ;;
     --out) OUT="$2"; shift 2 ;;
+    --peer-dir) PEER_DIR="$2"; shift 2 ;;
     --dry-run) DRY=1; shift ;;
     -h | --help) usage; exit 0 ;;
     *) echo "bench_vs_lammps: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
+PEER_DIR=$(realpath -m "$PEER_DIR")  # run_in changes directory
 [[ "$ROUNDS" =~ ^[1-9][0-9]*$ ]] || { echo "bench_vs_lammps: --rounds must be a positive integer, not '$ROUNDS'" >&2; exit 2; }
 [[ "$STEPS" =~ ^[1-9][0-9]*$ ]] || { echo "bench_vs_lammps: --steps must be a positive integer, not '$STEPS'" >&2; exit 2; }
 for r in $RANKS; do
@@ -112,9 +123,32 @@ build_peer() {
   echo "+ write $apt/sources.list (Debian 13 'trixie' deb-src)"
   ((DRY)) || echo "deb-src [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] http://deb.debian.org/debian trixie main" >"$apt/sources.list"
   run apt-get "${opts[@]}" update
-  run_in "$PEER_DIR" apt-get "${opts[@]}" source lammps
+  # Some mirrors serve the tarballs but not the .dsc; then apt-get source
+  # fails after downloading them, and they are unpacked here the way
+  # dpkg-source would (upstream tarball, debian/ tarball, its patch series).
+  run_in "$PEER_DIR" apt-get "${opts[@]}" source lammps || ((DRY)) ||
+    echo "bench_vs_lammps: apt-get source failed; unpacking the downloaded tarballs by hand" >&2
   local src
   src=$( ( ls -d "$PEER_DIR"/lammps-*/ 2>/dev/null || true ) | head -1)
+  if [[ -z "$src" ]] && ! ((DRY)); then
+    local orig deb
+    orig=$( ( ls "$PEER_DIR"/lammps_*.orig.tar.* 2>/dev/null || true ) | head -1)
+    deb=$( ( ls "$PEER_DIR"/lammps_*.debian.tar.* 2>/dev/null || true ) | head -1)
+    [[ -n "$orig" ]] || { echo "bench_vs_lammps: apt-get source lammps downloaded no upstream tarball into $PEER_DIR" >&2; exit 1; }
+    local ver
+    ver=$(basename "$orig" | sed -E 's/^lammps_(.*)\.orig\.tar\..*$/\1/')
+    src="$PEER_DIR/lammps-$ver/"
+    run mkdir -p "$src"
+    run tar -xf "$orig" -C "$src" --strip-components=1
+    if [[ -n "$deb" ]]; then
+      run tar -xf "$deb" -C "$src"
+      local p
+      while read -r p; do
+        [[ -z "$p" || "$p" == \#* ]] && continue
+        run patch -d "$src" -p1 -s -i "debian/patches/$p"
+      done <"${src}debian/patches/series"
+    fi
+  fi
   ((DRY)) && src="$PEER_DIR/lammps-<version>/"
   [[ -n "$src" ]] || { echo "bench_vs_lammps: apt-get source lammps left no lammps-*/ in $PEER_DIR" >&2; exit 1; }
   case "$src" in *20250204*|*"<version>"*) ;; *) echo "bench_vs_lammps: warning: $src is not upstream 20250204, the version of the published comparisons" >&2 ;; esac
@@ -144,7 +178,7 @@ if ! ((DRY)); then
 fi
 
 sets=""
-for s in "${SETS[@]}"; do sets+=" --set $s"; done
+for s in "${DEFAULT_SETS[@]}" "${SETS[@]}"; do sets+=" --set $s"; done
 mpi="mpirun --oversubscribe"
 [[ $(id -u) -eq 0 ]] && mpi+=" --allow-run-as-root"
 
