@@ -11,8 +11,8 @@ docs/paper-comparison.md "Seeds: torque and glass") without real runs:
     breakage run, with logs and /usr/bin/time files): the orientation tensor
     per region, the run's bond stress peak with its interval and place, the
     peak after the start-up, the broken bonds, L_N and L_W, the glass/E = 1e8
-    CPU and wall ratios, the
-    spread between seeds, all equal to the hand values; the PNGs are written.
+    CPU and wall ratios, the spread between seeds, all equal to the hand
+    values; the PNGs are written.
 
 usage: check_paper_seeds.py SOURCE_DIR WORK_DIR
 """
