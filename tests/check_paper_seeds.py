@@ -130,10 +130,12 @@ out = os.path.join(work, "runs")
 os.makedirs(out)
 # Fibers (centres in mm): arm core along x and at 45 degrees (a_xx = 0.75),
 # arm wall along y (0), nozzle core along y (0) and nozzle wall at 60
-# degrees from x (0.25); gate along x (1); bath along x (1).
+# degrees from x (0.25); gate along x (1); bath core along x (1), bath wall
+# strip along y (0): the bath's two give 0.5.
 layout = [((-10, -2), 0), ((12, -2), 45), ((20, -0.5), 90), ((0, 20), 90),
-          ((-10.1, 20), 60), ((1, 2.5), 0), ((0, 45), 0)]
-hand_axx = dict(arm_wall=0.0, arm_core=0.75, nozzle_wall=0.25, nozzle_core=0.0, gate=1.0, bath=1.0)
+          ((-10.1, 20), 60), ((1, 2.5), 0), ((0, 45), 0), ((-14.5, 40), 90)]
+hand_axx = dict(arm_wall=0.0, arm_core=0.75, nozzle_wall=0.25, nozzle_core=0.0, gate=1.0, bath_wall=0.0,
+                bath_core=1.0, bath=0.5)
 nb = 3 * len(layout)
 
 
@@ -190,11 +192,10 @@ e1 = row("e1e8_s1")
 expect(e1[:5] == ["0.004", "1000", "11", "20.5", "2"], "e1e8_s1: time, steps, CPU (user + system), wall, peak [MPa]")
 expect(e1[5] == "1", "e1e8_s1: the peak after the first interval [MPa]")
 expect(e1[6:8] == ["2", "(12, -2)"], "e1e8_s1: the peak in the interval ending at 2 ms, on the fiber at (12, -2) mm")
-expect(e1[8:10] == ["0.3", "0 / 21"], "e1e8_s1: the shear peak [MPa] and broken / bonds")
+expect(e1[8:10] == ["0.3", "0 / 24"], "e1e8_s1: the shear peak [MPa] and broken / bonds")
 orient = row("e1e8_s1", 1)
-want = ["%.2f (1)" % hand_axx[k] for k in ("arm_wall", "arm_core", "nozzle_wall", "nozzle_core", "gate",
-                                                    "bath")]
-want[1] = "0.75 (2)"  # two fibers in the arm core
+want = ["%.2f (%d)" % (hand_axx[k], 2 if k in ("arm_core", "bath") else 1)
+        for k in ("arm_wall", "arm_core", "nozzle_wall", "nozzle_core", "gate", "bath_wall", "bath_core", "bath")]
 expect(orient == want, "orientation a_xx (N) per region equals the hand values (%s)" % orient)
 b = row("breakage_s1")
 expect(b[:5] == ["0.0003", "300", "52", "100", "0.2"] and b[9] == "1 / 9", "breakage_s1: cost, peak, broken bonds")

@@ -15,7 +15,10 @@ each run, at the last snapshot (or --time T):
                 (within 1 mm of its slanted walls, 5 < y < 30 mm) and its
                 core (the middle half of its width), the gate (|x| < 3 mm,
                 0 < y < 5 mm), the bath (y > 30 mm, where the fibers start
-                along x); 1 = along x, 0 = along y (the injection)
+                along x), its near-wall strips (|x| > 14 mm: within 1 mm of
+                its side walls) and its core (|x| < 7.5 mm); 1 = along x,
+                0 = along y (the injection); along the nozzle's walls
+                a_xx = cos^2(64.4 deg) = 0.19
   bond stress   the largest run peak over all bonds (bond_tensile_stress_max,
                 recorded at every DEM sub-step, docs/dem.md "Bond stress
                 peaks"), the output interval it falls in and where that bond
@@ -53,7 +56,7 @@ MPA = 1e6
 CASES = ("e1e8", "glass", "breakage")
 TITLES = {"e1e8": "3.8 % plate, E = 1e8 Pa", "glass": "3.8 % plate, glass (72 GPa, implicit bonds)",
           "breakage": "breakage case (aspect ratio 20, E = 1e8, 0.2 MPa)"}
-REGIONS = ("arm_wall", "arm_core", "nozzle_wall", "nozzle_core", "gate", "bath")
+REGIONS = ("arm_wall", "arm_core", "nozzle_wall", "nozzle_core", "gate", "bath_wall", "bath_core", "bath")
 
 
 def nozzle_half_width(y):
@@ -73,6 +76,8 @@ def region_masks(c):
             "nozzle_wall": in_nozzle & (x > w - 1 * MM) & (x <= w),
             "nozzle_core": in_nozzle & (x < 0.5 * w),
             "gate": (x < 3 * MM) & (y >= 0) & (y <= 5 * MM),
+            "bath_wall": (y >= 30 * MM) & (x > 14 * MM),
+            "bath_core": (y >= 30 * MM) & (x < 7.5 * MM),
             "bath": y >= 30 * MM}
 
 
@@ -303,7 +308,7 @@ def main():
     print(a.output + "_bonds.png")
 
     if plate:
-        fig, ax = plt.subplots(figsize=(7.5, 4))
+        fig, ax = plt.subplots(figsize=(9, 4))
         for i, case in enumerate(("e1e8", "glass")):
             for j, r in enumerate(by_case[case]):
                 xs = np.arange(len(REGIONS)) + (i - 0.5) * 0.3 + (j - 1) * 0.06
@@ -311,7 +316,7 @@ def main():
                 ax.plot(xs, ys, "o" if case == "e1e8" else "s", color=styles[case],
                         label=TITLES[case] if j == 0 else None)
         ax.set_xticks(np.arange(len(REGIONS)))
-        ax.set_xticklabels(REGIONS)
+        ax.set_xticklabels(REGIONS, rotation=20)
         ax.axhline(0.5, color="0.5", ls=":", lw=0.8)
         ax.set_ylim(-0.02, 1.02)
         ax.set_ylabel("a_xx (1: along x, 0: along y)")
