@@ -41,8 +41,11 @@ options:
   --dry-run             print the commands, run nothing
   -h, --help            this text
 
-example (the short version of docs/paper-comparison.md):
-  tools/paper_seeds.sh --plate-end 0.02 --breakage-end 3e-4 --breakage-every 1e-4 --timeout 900
+examples (the short runs of docs/paper-comparison.md section 13, on a loaded machine):
+  tools/paper_seeds.sh --ranks 1 --plate-end 0.01 --plate-every 1e-3 \
+      --breakage-end 3e-4 --breakage-every 5e-5 --timeout 900
+  tools/paper_seeds.sh --ranks 1 --cases breakage --out out/paper_seeds_breakage \
+      --breakage-end 2e-3 --breakage-every 2e-4 --timeout 240
 EOF
 }
 
