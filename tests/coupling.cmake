@@ -55,3 +55,8 @@ add_test(NAME shear_cell_long
                  ${CMAKE_CURRENT_BINARY_DIR}/shear_cell_long_out
                  ${PROJECT_SOURCE_DIR}/inputs/validation/shear_cell.yaml)
 set_tests_properties(shear_cell_long PROPERTIES TIMEOUT 1800 LABELS "long;coupling")
+
+# The 3D mold cases' coarse variants (inputs/plate_3d_fibers_coarse.yaml,
+# inputs/ribbed_part_fibers_coarse.yaml): 2 ranks bitwise equal to one,
+# resin ids conserved, every fiber inside the cavity.
+sphdem_test(test_mold3d SOURCES test_mold3d.cpp RANKS 2 LABELS "mpi;coupling" TIMEOUT 300)
