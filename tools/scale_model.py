@@ -86,6 +86,13 @@ def fmt_bytes(b):
     return "%.0f KiB" % (b / 1024)
 
 
+# METIS on rank 0 for the 2D plate at --scale 24 (96,456 non-empty
+# top-level cells; docs/scaling.md, "Where serial METIS on rank 0 stops
+# scaling"), measured loaded: the graph of the 3D plate's blocks is of the
+# same size (about 10^5 non-empty blocks), and every graph is at most
+# max(64 P, 2^20) blocks.
+METIS_PLATE = "1024=3.451,4096=10.535,16384=16.817"
+
 HEADER = ("| ranks | particles | per rank | memory per rank | set-up share [s] | fibers [s] | "
           "METIS [s] | set-up [s] | restart read [s] |\n|---|---|---|---|---|---|---|---|---|")
 
@@ -103,21 +110,22 @@ def main():
                     help="the box's spacing at 1 rank [m] (70,200 resin per rank at 1e-4)")
     ap.add_argument("--box-fibers", type=int, default=12, help="the box's fibers at 1 rank")
     ap.add_argument("--ranks", default="64,256,1024,4096,16384")
-    ap.add_argument("--t-setup", type=float, default=2.0e-6,
-                    help="set-up CPU seconds per particle of a rank's share (measured)")
-    ap.add_argument("--t-fiber", type=float, default=1.0e-5,
+    ap.add_argument("--t-setup", type=float, default=5.0e-6,
+                    help="set-up CPU seconds per particle of a rank's share (measured: "
+                         "docs/scaling.md)")
+    ap.add_argument("--t-fiber", type=float, default=1.4e-4,
                     help="seconds to place one fiber (every rank places all; measured)")
-    ap.add_argument("--t-read", type=float, default=2.0e-6,
+    ap.add_argument("--t-read", type=float, default=1.2e-5,
                     help="restart seconds per particle of a rank's slice (measured)")
-    ap.add_argument("--ckpt-bytes", type=float, default=150.0,
+    ap.add_argument("--ckpt-bytes", type=float, default=172.0,
                     help="checkpoint bytes per particle (measured)")
     ap.add_argument("--fs-bandwidth", type=float, default=50e9,
                     help="the parallel file system's aggregate read bandwidth [B/s] (assumed)")
     ap.add_argument("--alpha", type=float, default=2e-6, help="latency per message [s]")
-    ap.add_argument("--metis", default="",
+    ap.add_argument("--metis", default=METIS_PLATE,
                     help="P=seconds,... of `sphdem partition` (the strong case's METIS column)")
-    ap.add_argument("--box-metis", default="",
-                    help="P=seconds,... for the weak box (default: none, a METIS-free bound)")
+    ap.add_argument("--box-metis", default=METIS_PLATE,
+                    help="P=seconds,... for the weak box (default: the plate's)")
     ap.add_argument("--only", choices=["strong", "weak"], help="one study only")
     a = ap.parse_args()
     ranks = [int(x) for x in a.ranks.split(",")]
