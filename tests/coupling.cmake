@@ -55,3 +55,20 @@ add_test(NAME shear_cell_long
                  ${CMAKE_CURRENT_BINARY_DIR}/shear_cell_long_out
                  ${PROJECT_SOURCE_DIR}/inputs/validation/shear_cell.yaml)
 set_tests_properties(shear_cell_long PROPERTIES TIMEOUT 1800 LABELS "long;coupling")
+
+# The 3D mold cases' coarse variants (inputs/plate_3d_fibers_coarse.yaml,
+# inputs/ribbed_part_fibers_coarse.yaml): 2 ranks bitwise equal to one,
+# resin ids conserved, every fiber inside the cavity.
+sphdem_test(test_mold3d SOURCES test_mold3d.cpp RANKS 2 LABELS "mpi;coupling" TIMEOUT 300)
+
+# The cluster job of a 3D mold (jobscripts/mold3d_slurm.sh --dry-run): the
+# memory per task from `sphdem check --ranks 64`, 64 tasks on 2 nodes.
+add_test(NAME mold3d_jobscript
+         COMMAND ${PROJECT_SOURCE_DIR}/jobscripts/mold3d_slurm.sh inputs/plate_3d_fibers.yaml
+                 ${CMAKE_CURRENT_BINARY_DIR}/mold3d_job 64 --dry-run
+         WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+set_tests_properties(
+  mold3d_jobscript
+  PROPERTIES TIMEOUT 60 LABELS "cli" ENVIRONMENT "SPHDEM=$<TARGET_FILE:sphdem>"
+             PASS_REGULAR_EXPRESSION
+             "memory: about [0-9.]+ MiB per rank at 64 rank.*64 tasks on 2 node\\(s\\), [0-9]+ MiB per task")

@@ -1,0 +1,56 @@
+#!/bin/bash
+# User CPU per resin particle-step of a 3D coupled mold against the 2D
+# plate's, measured alternately in one script so that both see the same
+# machine load (docs/performance.md, "3D molds"). Each round runs, on one
+# rank: the 2D case for N2 steps and for 0 steps (set-up only), then the 3D
+# case for N3 steps and for 0 steps; a case's cost is
+#   (user CPU of N steps - user CPU of 0 steps) / (resin particles x N)
+# with the resin count from the run's banner. Prints every round and the
+# median and range of the 3D / 2D ratio.
+#   tools/cost_3d_vs_2d.sh [SPHDEM] [ROUNDS]
+# Environment: CASE2 (default inputs/plate_fibers_3.8.yaml), CASE3 (default
+# inputs/plate_3d_fibers_coarse.yaml), SET3 (default
+# "numerics.spacing=5e-4": 72,000 resin particles, the size of issue 19's
+# 3D mold), N2 (default 400), N3 (default 40), OUT (scratch directory).
+set -euo pipefail
+if [[ ${1:-} == -h || ${1:-} == --help ]]; then
+  sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'
+  exit 0
+fi
+SPHDEM=${1:-build/test/sphdem}
+ROUNDS=${2:-3}
+CASE2=${CASE2:-inputs/plate_fibers_3.8.yaml}
+CASE3=${CASE3:-inputs/plate_3d_fibers_coarse.yaml}
+SET3=${SET3:-numerics.spacing=5e-4}
+N2=${N2:-400}
+N3=${N3:-40}
+OUT=${OUT:-$(mktemp -d)}
+mkdir -p "$OUT"
+
+# user CPU seconds and resin particles of one run: "USER RESIN"
+run() {
+  local tag=$1 case_file=$2 steps=$3; shift 3
+  /usr/bin/time -f "%U" -o "$OUT/$tag.time" "$SPHDEM" run "$case_file" --steps "$steps" \
+    --overwrite -o "$OUT/$tag" "$@" > "$OUT/$tag.log"
+  local resin
+  resin=$(grep -o '[0-9]* resin' "$OUT/$tag.log" | head -1 | cut -d' ' -f1)
+  echo "$(tail -1 "$OUT/$tag.time") $resin"
+}
+
+ratios=()
+printf "%-6s %-26s %-26s %s\n" round "2D [ns/resin particle-step]" "3D [ns/resin particle-step]" "3D/2D"
+for r in $(seq 1 "$ROUNDS"); do
+  read -r u2 n2 < <(run 2d "$CASE2" "$N2")
+  read -r z2 _ < <(run 2d0 "$CASE2" 0)
+  read -r u3 n3 < <(run 3d "$CASE3" "$N3" --set "$SET3")
+  read -r z3 _ < <(run 3d0 "$CASE3" 0 --set "$SET3")
+  c2=$(awk -v u="$u2" -v z="$z2" -v n="$n2" -v s="$N2" 'BEGIN{printf "%.1f", 1e9*(u-z)/(n*s)}')
+  c3=$(awk -v u="$u3" -v z="$z3" -v n="$n3" -v s="$N3" 'BEGIN{printf "%.1f", 1e9*(u-z)/(n*s)}')
+  ratio=$(awk -v a="$c3" -v b="$c2" 'BEGIN{printf "%.2f", a/b}')
+  ratios+=("$ratio")
+  printf "%-6s %-26s %-26s %s   (2D: %s resin, %.2f-%.2f s; 3D: %s resin, %.2f-%.2f s)\n" \
+    "$r" "$c2" "$c3" "$ratio" "$n2" "$u2" "$z2" "$n3" "$u3" "$z3"
+done
+printf "%s\n" "${ratios[@]}" | sort -g | awk '{a[NR]=$1} END{
+  printf "3D / 2D per resin particle-step: median %s, range %s-%s (%d rounds)\n",
+    a[int((NR+1)/2)], a[1], a[NR], NR}'
