@@ -29,7 +29,8 @@ sphdem_test(test_shear_cell SOURCES test_shear_cell.cpp RANKS 1 2 TIMEOUT 600 LA
 # Short Jeffery orbits in the 2D and 3D shear cells on the coupled run: 2-4
 # ranks bitwise the 1-rank run, which turns at Jeffery's rate within 20 %.
 sphdem_test(test_fiber_ranks SOURCES test_fiber_ranks.cpp RANKS 1 2 3 4
-            LABELS "validation;coupling")
+            LABELS "validation;coupling" ONE_RANK_TESTS "FiberRanks.JefferyShearCell2D:FiberRanks.JefferyShearCell3D"
+            MULTI_RANK_TESTS "FiberRanks.*RanksAreBitwise*")
 
 # A 20-bead fiber in shear stays straight at half the Forgacs-Mason critical
 # eta G and buckles at twice it (issue 12 part 5; docs/physics.md "Buckling").

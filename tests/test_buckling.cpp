@@ -188,8 +188,7 @@ TEST(Buckling, CoupledShearCellRanksAreBitwise3D) {
   if (!world.root()) return;
   ASSERT_EQ(ref.fibers.size(), 20u);
   std::printf("coupled cell, t = %.4g s: phi %.2f -> %.2f deg, least end-to-end / contour %.6f\n",
-              ref.time, ref.phi_start * 180 / kPi, ref.phi_end * 180 / kPi,
-              ref.least_straightness);
+              ref.time, ref.phi_start * 180 / kPi, ref.phi_end * 180 / kPi, ref.least_straightness);
   EXPECT_LT(ref.phi_end, ref.phi_start) << "the fiber turns with the shear (clockwise)";
   EXPECT_GT(ref.least_straightness, 0.9) << "bonds intact, no blow-up";
 }
@@ -208,9 +207,10 @@ TEST(BucklingLong, CoupledShearCellBracket3D) {
     const testing_fibers::Cell c = testing_fibers::run_cell<3>(
         self, kCell, {"fibers.youngs_modulus=" + std::to_string(e)}, 1.0, phi_stop);
     least[k] = c.least_straightness;
-    std::printf("coupled cell, E = %.4g Pa (%.1f x E_c): turned to %.1f deg at t = %.4g s, "
-                "least end-to-end / contour %.5f\n",
-                e, e / e_crit, c.phi_end * 180 / kPi, c.time, c.least_straightness);
+    std::printf(
+        "coupled cell, E = %.4g Pa (%.1f x E_c): turned to %.1f deg at t = %.4g s, "
+        "least end-to-end / contour %.5f\n",
+        e, e / e_crit, c.phi_end * 180 / kPi, c.time, c.least_straightness);
     EXPECT_LT(c.phi_end, phi_stop);
   }
   EXPECT_GT(least[0], 0.99);

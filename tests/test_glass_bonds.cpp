@@ -239,9 +239,9 @@ std::vector<FiberRow> coupled_box(const Comm& comm, const std::string& integrati
   std::vector<FiberRow> rows;
   for (std::size_t i = 0; i < f.n_owned; ++i) {
     const double run_peak = f.bonds[i][0].partner >= 0 ? f.bond_peaks[i][0].sigma_run : 0.0;
-    rows.push_back({f.gid[i],
-                    {f.x[i][0], f.x[i][1], f.v[i][0], f.v[i][1], f.omega[i][0], peak[f.gid[i]],
-                     run_peak}});
+    rows.push_back(
+        {f.gid[i],
+         {f.x[i][0], f.x[i][1], f.v[i][0], f.v[i][1], f.omega[i][0], peak[f.gid[i]], run_peak}});
   }
   return testing_mpi::gather_rows(comm, rows);
 }
