@@ -7,7 +7,8 @@
 // - the glass cantilever (docs/validation.md section 3) within the
 //   explicit test's tolerance;
 // - a coupled resin + glass-fiber box: both against explicit within 5 %,
-//   on 2 ranks bitwise the 1-rank run, and a restart bitwise the run.
+//   on 2-4 ranks bitwise the 1-rank run, and a restart bitwise the run
+//   (tests/test_checkpoint.cpp).
 #include <gtest/gtest.h>
 #include <mpi.h>
 
