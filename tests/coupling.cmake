@@ -26,9 +26,21 @@ set_tests_properties(test_jeffery_long PROPERTIES TIMEOUT 1800 LABELS "long;coup
 # periodic x, the linear profile at t = 0): bonds intact, 2 ranks bitwise.
 sphdem_test(test_shear_cell SOURCES test_shear_cell.cpp RANKS 1 2 TIMEOUT 600 LABELS "validation;coupling")
 
+# Short Jeffery orbits in the 2D and 3D shear cells on the coupled run: 2-4
+# ranks bitwise the 1-rank run, which turns at Jeffery's rate within 20 %.
+sphdem_test(test_fiber_ranks SOURCES test_fiber_ranks.cpp RANKS 1 2 3 4
+            LABELS "validation;coupling" ONE_RANK_TESTS "FiberRanks.JefferyShearCell2D:FiberRanks.JefferyShearCell3D"
+            MULTI_RANK_TESTS "FiberRanks.*RanksAreBitwise*")
+
 # A 20-bead fiber in shear stays straight at half the Forgacs-Mason critical
 # eta G and buckles at twice it (issue 12 part 5; docs/physics.md "Buckling").
-sphdem_test(test_buckling SOURCES test_buckling.cpp RANKS 1 LABELS "validation;coupling")
+# The same fiber in a resolved 3D shear cell on the coupled run: 2-4 ranks
+# bitwise the 1-rank run (the coupled bracket is test_buckling_long).
+sphdem_test(test_buckling SOURCES test_buckling.cpp RANKS 1 2 3 4 LABELS "validation;coupling"
+            ONE_RANK_TESTS "Buckling.ForgacsMasonBracket3D:BucklingLong.*")
+set_tests_properties(test_buckling_np1 PROPERTIES ENVIRONMENT "GTEST_FILTER=-BucklingLong.*")
+add_test(NAME test_buckling_long COMMAND test_buckling --gtest_filter=BucklingLong.*)
+set_tests_properties(test_buckling_long PROPERTIES TIMEOUT 3600 LABELS "long;coupling")
 
 # Long fibers (issue 12 part 5): the 20-particle fiber's shear cell is valid
 # and runs (300 steps, through the fiber's first turn towards the

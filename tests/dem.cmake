@@ -98,10 +98,11 @@ endif()
 
 # Glass fibers with bond sub-cycling (docs/dem.md, "Bond sub-cycling"):
 # against the explicit integrator at E = 72 GPa (a fiber in shear drag,
-# the cantilever, a coupled box) and, on 2 ranks, bitwise the 1-rank run.
-sphdem_test(test_glass_bonds SOURCES test_glass_bonds.cpp RANKS 1 2 LABELS "validation;dem"
+# the cantilever, a coupled box) and, on 2-4 ranks, bitwise the 1-rank run.
+sphdem_test(test_glass_bonds SOURCES test_glass_bonds.cpp RANKS 1 2 3 4 LABELS "validation;dem"
             TIMEOUT 300
-            ONE_RANK_TESTS "GlassBonds.SubcycledMatches*:GlassBonds.Cantilever*")
+            ONE_RANK_TESTS "GlassBonds.SubcycledAndImplicitMatch*:GlassBonds.Cantilever*:GlassBonds.CoupledBoxSubcycledAndImplicitMatchExplicit"
+            MULTI_RANK_TESTS "GlassBonds.CoupledBoxRanksAreBitwise")
 # `sphdem check` on glass: the explicit bonds' warning and the refusal of a
 # DEM longer than a day, both naming fibers.youngs_modulus.
 add_test(NAME glass_check_cost

@@ -7,13 +7,15 @@
 // - the glass cantilever (docs/validation.md section 3) within the
 //   explicit test's tolerance;
 // - a coupled resin + glass-fiber box: both against explicit within 5 %,
-//   on 2 ranks bitwise the 1-rank run, and a restart bitwise the run.
+//   on 2-4 ranks bitwise the 1-rank run, and a restart bitwise the run
+//   (tests/test_checkpoint.cpp).
 #include <gtest/gtest.h>
 #include <mpi.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <map>
 #include <numbers>
 #include <string>
@@ -210,8 +212,13 @@ TEST(GlassBonds, CantileverImplicit3D) {
 
 struct FiberRow {
   std::int64_t gid = 0;
-  double value[6] = {};
+  double value[7] = {};
 };
+
+// The coupled box's columns: x, y, u, v, spin, and each particle's first
+// bond's (the bond to the next particle) peak stresses.
+constexpr int kSampledPeak = 5;  // largest |sigma| at the SPH steps' ends
+constexpr int kRunPeak = 6;      // largest tensile sigma at every DEM evaluation (sigma_run)
 
 std::vector<FiberRow> coupled_box(const Comm& comm, const std::string& integration, int steps) {
   const Case c = testing::load_input(
@@ -233,76 +240,121 @@ std::vector<FiberRow> coupled_box(const Comm& comm, const std::string& integrati
   const auto& f = sim.dem()->particles();
   std::vector<FiberRow> rows;
   for (std::size_t i = 0; i < f.n_owned; ++i) {
+    const double run_peak = f.bonds[i][0].partner >= 0 ? f.bond_peaks[i][0].sigma_run : 0.0;
     rows.push_back(
-        {f.gid[i], {f.x[i][0], f.x[i][1], f.v[i][0], f.v[i][1], f.omega[i][0], peak[f.gid[i]]}});
+        {f.gid[i], {f.x[i][0], f.x[i][1], f.v[i][0], f.v[i][1], f.omega[i][0], 0.0, run_peak}});
   }
-  return testing_mpi::gather_rows(comm, rows);
+  rows = testing_mpi::gather_rows(comm, rows);
+  // A particle's sampled peak is spread over the ranks that owned it in
+  // turn (it migrates): the largest of theirs.
+  struct PeakRow {
+    std::int64_t gid = 0;
+    double value[1] = {};
+  };
+  std::vector<PeakRow> seen;
+  for (const auto& [gid, p] : peak) seen.push_back({gid, {p}});
+  for (const PeakRow& r : testing_mpi::gather_rows(comm, seen)) {
+    const auto row = std::lower_bound(rows.begin(), rows.end(), r.gid,
+                                      [](const FiberRow& a, std::int64_t g) { return a.gid < g; });
+    if (row != rows.end() && row->gid == r.gid)
+      row->value[kSampledPeak] = std::max(row->value[kSampledPeak], r.value[0]);
+  }
+  return rows;
+}
+
+struct PeakGap {
+  double largest = 0;  // the reference's largest peak [Pa]
+  double e_peak = 0;   // relative gap of the largest peaks
+  double e_rms = 0;    // RMS gap over the bonds / RMS of the reference
+  double e_bond = 0;   // largest single-bond gap / the largest peak
+};
+
+PeakGap peak_gap(const std::vector<FiberRow>& ref, const std::vector<FiberRow>& got, int column) {
+  std::vector<double> s_ref, s_got;
+  double peak_got = 0, d2 = 0, r2 = 0;
+  PeakGap g;
+  for (std::size_t k = 0; k < ref.size(); ++k) {
+    const double a = ref[k].value[column], b = got[k].value[column];
+    s_ref.push_back(a);
+    s_got.push_back(b);
+    g.largest = std::max(g.largest, std::abs(a));
+    peak_got = std::max(peak_got, std::abs(b));
+    d2 += (b - a) * (b - a);
+    r2 += a * a;
+  }
+  g.e_peak = std::abs(peak_got / g.largest - 1);
+  g.e_rms = std::sqrt(d2 / r2);
+  g.e_bond = relative_gap(s_ref, s_got);
+  return g;
 }
 
 // 30 glass fibers falling through a sloshing resin (the coupled box of the
 // parallel tests), 40 SPH steps: the sub-cycled and the implicit bonds'
-// peak stresses and the fibers' positions against the explicit run's; on N
-// ranks bitwise rank 0's.
-void check_coupled_box(const std::vector<FiberRow>& ref, const std::vector<FiberRow>& one,
-                       const std::vector<FiberRow>& got, const Comm& world, const char* method,
-                       double stress_tolerance) {
-  if (!world.root()) return;
-  EXPECT_EQ(testing_mpi::bitwise_mismatches(one, got), 0u) << method << ": ranks change the result";
-  ASSERT_EQ(ref.size(), one.size());
-  std::vector<double> s_ref, s_got;
+// peak stresses and the fibers' positions against the explicit run's.
+//
+// The bond stresses of these free fibers are mostly the ring-down of their
+// start from rest (a few kPa, bending vibrations the resin damps over a
+// drag time, 0.1 ms, of thousands of periods of the explicit bond step),
+// whose phase the integrators do not share: the implicit (trapezoidal)
+// rule keeps a mode's amplitude but lowers its frequency (by 5 % at
+// omega dt = 0.8), so after a few hundred periods the phase at a given
+// instant is unrelated. Sampled at the 40 SPH steps' ends, each bond's
+// peak is the envelope times |cos| of an arbitrary phase: 5.4 % (largest)
+// and 7.6 % (RMS) apart. The bond's peak over every evaluation of it (the
+// explicit run's bond steps, the implicit run's outer steps: the peaks the
+// run writes, docs/dem.md "Bond stress peaks") is the envelope in both,
+// and it is what the test compares (docs/validation.md section 10).
+void check_coupled_box(const std::vector<FiberRow>& ref, const std::vector<FiberRow>& got,
+                       const char* method) {
+  ASSERT_EQ(ref.size(), got.size());
   double travel = 0, gap = 0;
   for (std::size_t k = 0; k < ref.size(); ++k) {
-    s_ref.push_back(ref[k].value[5]);
-    s_got.push_back(one[k].value[5]);
     gap = std::max(
-        gap, std::hypot(one[k].value[0] - ref[k].value[0], one[k].value[1] - ref[k].value[1]));
+        gap, std::hypot(got[k].value[0] - ref[k].value[0], got[k].value[1] - ref[k].value[1]));
     travel = std::max(travel, std::hypot(ref[k].value[2], ref[k].value[3]));
   }
-  // The bond stresses of these free fibers are mostly the ring-down of
-  // their start from rest (a few kPa, vibrations the resin damps over a
-  // drag time, 0.1 ms), whose phase at a given instant differs between the
-  // integrators: the test is on each bond's peak over the run, their
-  // largest value and their RMS gap.
-  double peak_ref = 0, peak_got = 0, d2 = 0, r2 = 0;
-  for (std::size_t k = 0; k < s_ref.size(); ++k) {
-    peak_ref = std::max(peak_ref, std::abs(s_ref[k]));
-    peak_got = std::max(peak_got, std::abs(s_got[k]));
-    d2 += (s_got[k] - s_ref[k]) * (s_got[k] - s_ref[k]);
-    r2 += s_ref[k] * s_ref[k];
-  }
-  const double e_peak = std::abs(peak_got / peak_ref - 1), e_rms = std::sqrt(d2 / r2);
+  const PeakGap sampled = peak_gap(ref, got, kSampledPeak), run = peak_gap(ref, got, kRunPeak);
   std::printf(
-      "coupled glass box: largest bond stress %.4g Pa, %s %.2e off; RMS gap %.2e; "
-      "largest single-bond gap %.2e of the largest; position gap %.3g m = %.2e fiber "
-      "diameters\n",
-      peak_ref, method, e_peak, e_rms, relative_gap(s_ref, s_got), gap, gap / (2 * kR));
-  EXPECT_LT(e_peak, stress_tolerance) << method;
-  EXPECT_LT(e_rms, stress_tolerance) << method;
+      "coupled glass box, %s vs explicit: bond peaks over every DEM evaluation: largest %.4g Pa, "
+      "%.2e off, RMS gap %.2e, largest single-bond gap %.2e of the largest; sampled at the SPH "
+      "steps' ends: largest %.4g Pa, %.2e off, RMS %.2e, single bond %.2e; position gap %.3g m "
+      "= %.2e fiber diameters\n",
+      method, run.largest, run.e_peak, run.e_rms, run.e_bond, sampled.largest, sampled.e_peak,
+      sampled.e_rms, sampled.e_bond, gap, gap / (2 * kR));
+  EXPECT_LT(run.e_peak, 0.05) << method;
+  EXPECT_LT(run.e_rms, 0.05) << method;
   EXPECT_LT(gap, 0.05 * 2 * kR) << method << ": fibers moved apart by more than 5 % of a diameter";
   EXPECT_GT(travel, 0.0);
 }
 
+constexpr int kBoxSteps = 40;
+
+// One rank: both methods against the explicit run.
 TEST(GlassBonds, CoupledBoxSubcycledAndImplicitMatchExplicit) {
+  const Comm self(MPI_COMM_SELF);
+  const std::vector<FiberRow> ref = coupled_box(self, "explicit", kBoxSteps);
+  check_coupled_box(ref, coupled_box(self, "subcycled", kBoxSteps), "sub-cycled");
+  check_coupled_box(ref, coupled_box(self, "implicit", kBoxSteps), "implicit");
+}
+
+// N ranks: bitwise the 1-rank run, sub-cycled and implicit.
+TEST(GlassBonds, CoupledBoxRanksAreBitwise) {
   const Comm world;
-  const int kSteps = 40;
-  std::vector<FiberRow> ref, one_sub, one_imp;
-  if (world.root()) {
-    ref = coupled_box(Comm(MPI_COMM_SELF), "explicit", kSteps);
-    one_sub = coupled_box(Comm(MPI_COMM_SELF), "subcycled", kSteps);
-    one_imp = coupled_box(Comm(MPI_COMM_SELF), "implicit", kSteps);
+  for (const char* method : {"subcycled", "implicit"}) {
+    std::vector<FiberRow> one;
+    if (world.root()) one = coupled_box(Comm(MPI_COMM_SELF), method, kBoxSteps);
+    testing_mpi::wait_for_root(world);
+    const std::vector<FiberRow> got = coupled_box(world, method, kBoxSteps);
+    if (!world.root()) continue;
+    EXPECT_EQ(testing_mpi::bitwise_mismatches(one, got), 0u)
+        << method << ": " << world.size() << " ranks change the result";
+    for (std::size_t k = 0; k < std::min(one.size(), got.size()); ++k)
+      for (int c = 0; c < 7; ++c)
+        if (std::memcmp(&one[k].value[c], &got[k].value[c], sizeof(double)) != 0)
+          std::printf("%s: particle %lld column %d: %.17g on 1 rank, %.17g on %d\n", method,
+                      static_cast<long long>(one[k].gid), c, one[k].value[c], got[k].value[c],
+                      world.size());
   }
-  testing_mpi::wait_for_root(world);
-  const std::vector<FiberRow> got_sub = coupled_box(world, "subcycled", kSteps);
-  const std::vector<FiberRow> got_imp = coupled_box(world, "implicit", kSteps);
-  check_coupled_box(ref, one_sub, got_sub, world, "sub-cycled", 0.05);
-  // These stresses are the ring-down of bond vibrations (bending modes of a
-  // 4-particle glass fiber, omega dt about 0.8 at the implicit step) sampled
-  // at 40 instants: the trapezoidal rule keeps their amplitude but not
-  // their phase, so the sampled peaks differ by 5.4 % (largest) and 7.6 %
-  // (RMS); the 5 % of the issue is met on the resolved loading of the
-  // shear-drag test above and here on the fibers' positions (docs/dem.md,
-  // "Implicit bonds").
-  check_coupled_box(ref, one_imp, got_imp, world, "implicit", 0.10);
 }
 
 }  // namespace
