@@ -13,6 +13,7 @@
 #include "sphdem/parallel/decomposition.hpp"
 #include "sphdem/particles/dem_particles.hpp"
 #include "sphdem/particles/particles.hpp"
+#include "sphdem/sph/sph.hpp"
 
 namespace sphdem {
 
@@ -52,14 +53,22 @@ double band(const Shape& s, int dim, double t) {
   return length * t + 4 * t * t;
 }
 
-// Bytes per particle of a field registry (every field, owned or ghost).
+// Bytes per particle of a field registry (the fields ps holds, owned or ghost).
 template <class P>
-double registry_bytes() {
+double registry_bytes(const P& ps = P()) {
   double bytes = 0;
-  P().for_each_field([&](const char*, const auto& field, FieldPolicy) {
+  ps.for_each_field([&](const char*, const auto& field, FieldPolicy) {
     bytes += sizeof(typename std::decay_t<decltype(field)>::value_type);
   });
   return bytes;
+}
+
+// Bytes per SPH particle of the fields the case's options use (drop_unused_fields).
+template <int D>
+double sph_field_bytes(const Case& c) {
+  SphParticles<D> ps;
+  drop_unused_fields<D>(make_sph_params(c), any_slip_wall(c), ps);
+  return registry_bytes(ps);
 }
 
 // Cells of a grid over `lo`..`hi` whose cells are at least `cell` wide.
@@ -112,7 +121,7 @@ CaseSize estimate(const Case& c, int ranks) {
     s.resin = std::min(s.resin, s.lattice_nodes);
     s.walls = std::min(s.walls, s.lattice_nodes);
     const double n = s.resin + s.walls;
-    const double per_particle = registry_bytes<SphParticles<D>>();
+    const double per_particle = sph_field_bytes<D>(c);
     const double owned = n / p;
     // A rank's ghosts: a layer `reach` spacings deep around its share.
     const double ghosts =
