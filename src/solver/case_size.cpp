@@ -153,10 +153,13 @@ CaseSize estimate(const Case& c, int ranks) {
           std::ceil(f.area_fraction * measure(f.region, D) / (particle * f.particles_per_fiber));
     }
     s.dem = fibers * f.particles_per_fiber;
-    // Every rank holds every fiber at set-up (and in a fibers-only run's
-    // pair search); its cell list has up to 16 cells per particle.
-    dem_bytes =
-        kDemOverhead * s.dem * (registry_bytes<DemParticles<D>>() + 16 * 2 * sizeof(std::int32_t));
+    // Each rank places and holds its share of the fibers (place_fibers by
+    // tiles, docs/dem.md); its cell list has up to 16 cells per particle.
+    // The stable step's index by gid is the one array of every fiber
+    // particle (4 bytes each).
+    dem_bytes = kDemOverhead * s.dem / p *
+                    (registry_bytes<DemParticles<D>>() + 16 * 2 * sizeof(std::int32_t)) +
+                sizeof(std::int32_t) * s.dem;
     if (c.fill.empty()) {
       // A fibers-only run's cells, about one diameter wide, over the mold
       // and a margin of a tenth of it (src/solver/dem_run.cpp).
