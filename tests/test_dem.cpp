@@ -427,7 +427,8 @@ void expect_shares_give_the_whole(const FiberSpec<D>& s, const std::array<int, 3
   ASSERT_EQ(w.size(), static_cast<std::size_t>(all.fibers * s.particles_per_fiber));
   std::size_t seen = 0;
   std::int64_t tries = 0;
-  const Vec<D> step = (s.hi - s.lo).array() / Eigen::Array<double, D, 1>(split.data());
+  Vec<D> step;
+  for (int d = 0; d < D; ++d) step[d] = (s.hi[d] - s.lo[d]) / split[static_cast<std::size_t>(d)];
   for (int k = 0; k < split[0] * split[1] * split[2]; ++k) {
     const std::array<int, 3> c{k % split[0], (k / split[0]) % split[1], k / (split[0] * split[1])};
     Vec<D> lo, hi;
