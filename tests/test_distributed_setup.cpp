@@ -131,7 +131,9 @@ TEST(DistributedSetup, FibersMatchOneRankPlacement) {
   EXPECT_EQ(sim.placement().tries, serial.tries);
   EXPECT_EQ(comm.sum(static_cast<std::int64_t>(mine.n_owned)),
             static_cast<std::int64_t>(all.particles.size()));
-  if (comm.size() > 1) EXPECT_LT(mine.n_owned, all.particles.size()) << "one rank holds all";
+  if (comm.size() > 1) {
+    EXPECT_LT(mine.n_owned, all.particles.size()) << "one rank holds all";
+  }
   const DemParticles<2>& one = all.particles;
   std::size_t mismatched = 0;
   const auto differs = [&](std::int64_t id, const char* what) {

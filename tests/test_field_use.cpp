@@ -104,9 +104,10 @@ TEST(DropField, CheckpointsKeepTheColumnsOfDroppedFields) {
   for (std::size_t k = 0; k < lean_cols.size(); ++k) {
     EXPECT_EQ(lean_cols[k].name, full_cols[k].name);
     EXPECT_EQ(lean_cols[k].data.size(), full_cols[k].data.size()) << lean_cols[k].name;
-    if (lean_cols[k].name == "viscosity")
+    if (lean_cols[k].name == "viscosity") {
       EXPECT_TRUE(std::all_of(lean_cols[k].data.begin(), lean_cols[k].data.end(),
                               [](char b) { return b == 0; }));
+    }
   }
   // A lean container reads past the column; a full one reads the zeros.
   SphParticles<2> a = lean_empty;
