@@ -171,11 +171,6 @@ struct Tiles {
   std::array<std::int64_t, 3> coords_of(std::int64_t t) const {
     return {t % n[0], (t / n[0]) % n[1], t / (n[0] * n[1])};
   }
-  std::int64_t of(const Vec<D>& x) const {
-    std::array<std::int64_t, 3> c{0, 0, 0};
-    for (int d = 0; d < D; ++d) c[d] = along(d, x[d]);
-    return index(c);
-  }
   int colour(std::int64_t t) const {
     const auto c = coords_of(t);
     int k = 0;
@@ -188,6 +183,24 @@ struct Tiles {
       blo[d] = lo[d] + static_cast<double>(c[d]) * size[d];
       bhi[d] = c[d] + 1 == n[d] ? hi[d] : lo[d] + static_cast<double>(c[d] + 1) * size[d];
     }
+  }
+  // Fibers per tile: every tile has the same size, so the same share of
+  // the count, the remainder spread evenly over the tile order (Bresenham):
+  // tile t holds fibers [first_fiber(t), first_fiber(t + 1)).
+  std::int64_t first_fiber(std::int64_t t, std::int64_t target) const {
+    const std::int64_t T = count();
+    return t * (target / T) + (t * (target % T)) / T;
+  }
+  std::int64_t tile_of_fiber(std::int64_t f, std::int64_t target) const {
+    std::int64_t a = 0, b = count() - 1;  // the last tile whose first fiber is <= f
+    while (a < b) {
+      const std::int64_t m = (a + b + 1) / 2;
+      if (first_fiber(m, target) <= f)
+        a = m;
+      else
+        b = m - 1;
+    }
+    return a;
   }
   // The neighbours of t (sharing a face, edge or corner) of a lower colour.
   template <class F>
@@ -207,6 +220,23 @@ struct Tiles {
         }
   }
 };
+
+// About this many fibers per tile: tiles much larger than a fiber, so that
+// a fiber's retries (in its tile) see nearly the freedom of the whole
+// region, small enough that a rank's share is many tiles.
+constexpr double kFibersPerTile = 32;
+
+template <int D>
+Tiles<D> fiber_tiles(const FiberSpec<D>& s, int target) {
+  const double r = s.radius, dmin = 2.0 * r + s.gap, half = (s.particles_per_fiber - 1) * r;
+  double measure = 1;
+  for (int d = 0; d < D; ++d) measure *= s.hi[d] - s.lo[d];
+  // At least a fiber and the gap (a hair more: round-off never brings two
+  // tiles of one colour within the gap).
+  double edge = (2.0 * half + dmin) * (1.0 + 1e-9);
+  if (target > 0) edge = std::max(edge, std::pow(measure * kFibersPerTile / target, 1.0 / D));
+  return Tiles<D>(s.lo, s.hi, edge);
+}
 
 // The tiles a share places: those that touch its boxes (with a margin
 // against round-off: a fiber's centre lies in its tile's closed box), then
@@ -304,7 +334,11 @@ int fiber_target(const FiberSpec<D>& s) {
 
 template <int D>
 Vec<D> first_fiber_centre(const FiberSpec<D>& s, int f) {
-  return draw_candidate(s, (s.particles_per_fiber - 1) * s.radius, f, 0).c;
+  const int target = fiber_target(s);
+  const Tiles<D> tiles = fiber_tiles(s, target);
+  Vec<D> tlo, thi;
+  tiles.box(tiles.tile_of_fiber(f, target), tlo, thi);
+  return draw_candidate(s, (s.particles_per_fiber - 1) * s.radius, f, 0, &tlo, &thi).c;
 }
 
 template <int D>
@@ -317,17 +351,20 @@ FiberPlacement place_fibers(const FiberSpec<D>& s, DemSystem<D>& sys, const Fibe
   const int target = fiber_target(s);
   const double r = s.radius, dmin = 2.0 * r + s.gap;
   const double half = (s.particles_per_fiber - 1) * r;  // centre to end-particle centre
-  // A hair wider than a fiber and the gap: round-off never brings two
-  // tiles of one colour within the gap.
-  const Tiles<D> tiles(s.lo, s.hi, (2.0 * half + dmin) * (1.0 + 1e-9));
+  const Tiles<D> tiles = fiber_tiles(s, target);
   const std::set<std::int64_t> need =
       share ? tiles_of_share(tiles, *share) : std::set<std::int64_t>{};
 
   // The fibers of the tiles to place, by colour, tile and fiber.
   std::vector<Pending> pending;
-  for (int f = 0; f < target; ++f) {
-    const std::int64_t t = tiles.of(draw_candidate(s, half, f, 0).c);
-    if (!share || need.count(t)) pending.push_back({tiles.colour(t), t, f});
+  const auto add_tile = [&](std::int64_t t) {
+    for (std::int64_t f = tiles.first_fiber(t, target); f < tiles.first_fiber(t + 1, target); ++f)
+      pending.push_back({tiles.colour(t), t, static_cast<int>(f)});
+  };
+  if (share) {
+    for (const std::int64_t t : need) add_tile(t);
+  } else {
+    for (std::int64_t t = 0; t < tiles.count(); ++t) add_tile(t);
   }
   std::stable_sort(pending.begin(), pending.end(), [](const Pending& a, const Pending& b) {
     return a.colour != b.colour ? a.colour < b.colour : a.tile < b.tile;
@@ -344,8 +381,7 @@ FiberPlacement place_fibers(const FiberSpec<D>& s, DemSystem<D>& sys, const Fibe
     bool placed = false;
     for (int a = 0; a < s.attempts_per_fiber && !placed; ++a) {
       ++p.tries;
-      const Candidate<D> k = a == 0 ? draw_candidate(s, half, p.fiber, 0)
-                                    : draw_candidate(s, half, p.fiber, a, &tlo, &thi);
+      const Candidate<D> k = draw_candidate(s, half, p.fiber, a, &tlo, &thi);
       if (!k.fits) continue;
       bool free = true;
       for (int j = 0; j < s.particles_per_fiber && free; ++j) {
