@@ -47,18 +47,20 @@ struct FiberShare {
 // Appends the fibers to `sys` (gids continue after the existing particles,
 // fiber ids after the largest existing one) and bonds each chain. Existing
 // particles count as obstacles. Deterministic for a seed, whatever the
-// share: fiber f's candidates come from a stream keyed by (seed, f,
-// attempt) (SplitMix64), its first candidate's centre puts it in a tile of
-// a fixed grid over the region (tiles at least a fiber plus the gap wide),
-// and the tiles are placed by colour (2^D colours, no two neighbours
-// alike), so a fiber's overlap test sees exactly the fibers of its tile and
-// of its neighbours of lower colours, on any rank. With a share, `sys` must
-// be empty: only the fibers whose centre the share owns are added, with the
-// gids, fiber ids and bond ids the whole placement gives them (fiber f:
-// particles f ppf + k); the share computes the tiles that touch its boxes
-// and those their results depend on. Throws std::runtime_error naming the
-// fiber when it finds no free place in `attempts_per_fiber` tries (in its
-// tile); sys is then left unchanged. `tries` counts the owned fibers' tries.
+// share (docs/dem.md, "Fiber generator"): fiber f's candidates come from a
+// stream keyed by (seed, f, attempt) (SplitMix64); a fixed grid of equal
+// tiles over the region (at least a fiber plus the gap wide, about 32
+// fibers each) holds the fibers, the count split evenly over the tiles,
+// each fiber's centre drawn in its tile; tiles are placed by colour (2^D
+// colours, no two neighbours alike), so a fiber's overlap test sees
+// exactly the fibers of its tile and of its neighbours of lower colours,
+// on any rank. With a share, `sys` must be empty: only the fibers whose
+// centre the share owns are added, with the gids, fiber ids and bond ids
+// the whole placement gives them (fiber f: particles f ppf + k); the share
+// places the tiles that touch its boxes and those their results depend
+// on. Throws std::runtime_error naming the fiber when it finds no free
+// place in `attempts_per_fiber` tries (in its tile); sys is then left
+// unchanged. `tries` counts the owned fibers' tries.
 template <int D>
 FiberPlacement place_fibers(const FiberSpec<D>& spec, DemSystem<D>& sys,
                             const FiberShare<D>* share = nullptr);
@@ -67,9 +69,9 @@ FiberPlacement place_fibers(const FiberSpec<D>& spec, DemSystem<D>& sys,
 template <int D>
 int fiber_target(const FiberSpec<D>& spec);
 
-// The centre of fiber f's first candidate (its tile; where it lies unless
-// that candidate overlaps): every rank can weigh the fibers' work per cell
-// without placing them.
+// The centre of fiber f's first candidate (in its tile; where it lies
+// unless that candidate overlaps): every rank can weigh the fibers' work
+// per cell without placing them.
 template <int D>
 Vec<D> first_fiber_centre(const FiberSpec<D>& spec, int f);
 
