@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <exception>
 #include <limits>
 #include <optional>
 #include <ostream>
@@ -151,21 +150,22 @@ FiberModule<D>::FiberModule(const RunContext<D>& ctx, const FiberHost<D>* host) 
   }
   // Each rank places the fibers whose centre lies in its cells (issue 14:
   // the same fibers at any rank count); a fiber that does not fit stops
-  // every rank.
+  // every rank with the same error (the lowest failing rank's).
   const FiberShare<D> share = rank_share(*dec);
   DemSystem<D> mine;
+  mine.walls = dem_walls_from_case<D>(c, wall_owner_);
+  mine.params = dem_params<D>(c);
+  const FiberSettings& f = *c.fibers;
   std::optional<std::string> error;
-  std::exception_ptr failure;
   try {
-    mine = case_fibers<D>(c, wall_owner_, placement_, &share);
-  } catch (const InputError& e) {
+    placement_ = place_fibers(fiber_spec<D>(f), mine, &share);
+  } catch (const std::runtime_error& e) {
     error = e.what();
-    failure = std::current_exception();
   }
   if (const std::optional<RankFailure> failed = first_failure(ctx.comm, error)) {
-    if (failed->rank == ctx.comm.rank()) std::rethrow_exception(failure);
-    throw InputError(c.source_file, 0, "",
-                     fmt::format("on rank {}: {}", failed->rank, failed->message));
+    const bool from_set = f.amount_line == 0;
+    throw InputError(from_set ? "--set" : c.source_file, f.amount_line,
+                     f.count > 0 ? "fibers.count" : "fibers.area_fraction", failed->message);
   }
   placement_.tries = ctx.comm.sum(placement_.tries);
   // The same step on every rank (a rank may hold no fiber).
