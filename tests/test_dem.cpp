@@ -3,6 +3,7 @@
 // and the fiber generator.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -411,6 +412,71 @@ TEST(DemFibers, ImpossibleFractionIsAClearError) {
   s.count = 1;
   s.hi = Vec<2>(-14.5e-3, 60e-3);  // 0.5 mm wide: a 1 mm fiber along x cannot fit
   EXPECT_THROW(place_fibers(s, sys), std::runtime_error);
+}
+
+// Fibers placed by shares (issue 14 part 1): shares of the region, each
+// placing the fibers whose centre it owns, together give the whole
+// placement bit for bit (positions, fiber ids, bonds and their ids),
+// whatever the split; random orientations at a fraction where overlaps
+// are frequent, in 2D and 3D.
+template <int D>
+void expect_shares_give_the_whole(const FiberSpec<D>& s, const std::array<int, 3>& split) {
+  DemSystem<D> whole;
+  const FiberPlacement all = place_fibers(s, whole);
+  const DemParticles<D>& w = whole.particles;
+  ASSERT_EQ(w.size(), static_cast<std::size_t>(all.fibers * s.particles_per_fiber));
+  std::size_t seen = 0;
+  std::int64_t tries = 0;
+  Vec<D> step;
+  for (int d = 0; d < D; ++d) step[d] = (s.hi[d] - s.lo[d]) / split[static_cast<std::size_t>(d)];
+  for (int k = 0; k < split[0] * split[1] * split[2]; ++k) {
+    const std::array<int, 3> c{k % split[0], (k / split[0]) % split[1], k / (split[0] * split[1])};
+    Vec<D> lo, hi;
+    for (int d = 0; d < D; ++d) {
+      lo[d] = c[d] == 0 ? -1.0 : s.lo[d] + c[d] * step[d];
+      hi[d] = c[d] + 1 == split[d] ? 1.0 : s.lo[d] + (c[d] + 1) * step[d];
+    }
+    FiberShare<D> share;
+    share.boxes.emplace_back(lo, hi);
+    share.owns = [&](const Vec<D>& x) {
+      return (x.array() >= lo.array()).all() && (x.array() < hi.array()).all();
+    };
+    DemSystem<D> part;
+    const FiberPlacement p = place_fibers(s, part, &share);
+    EXPECT_EQ(p.fibers, all.fibers);
+    tries += p.tries;
+    const DemParticles<D>& m = part.particles;
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      const auto j = static_cast<std::size_t>(m.gid[i]);
+      ASSERT_LT(j, w.size());
+      EXPECT_EQ(w.gid[j], m.gid[i]);
+      EXPECT_EQ(w.fiber[j], m.fiber[i]);
+      EXPECT_TRUE(w.x[j] == m.x[i]) << "gid " << m.gid[i];
+      EXPECT_EQ(w.mass[j], m.mass[i]);
+      for (std::size_t b = 0; b < w.bonds[j].size(); ++b) {
+        EXPECT_EQ(w.bonds[j][b].partner, m.bonds[i][b].partner);
+        EXPECT_EQ(w.bonds[j][b].id, m.bonds[i][b].id);
+        EXPECT_EQ(w.bonds[j][b].rbar, m.bonds[i][b].rbar);
+        EXPECT_EQ(w.bonds[j][b].length0, m.bonds[i][b].length0);
+      }
+    }
+    seen += m.size();
+  }
+  EXPECT_EQ(seen, w.size());  // each fiber on exactly one share
+  EXPECT_EQ(tries, all.tries);
+}
+
+TEST(DemFibers, SharesPlaceTheWholePlacementBitwise) {
+  FiberSpec<2> s = bath(375, 4);  // 8.2 %: many candidates overlap
+  s.angle.reset();
+  expect_shares_give_the_whole(s, {3, 2, 1});
+  expect_shares_give_the_whole(s, {1, 5, 1});
+  FiberSpec<3> t;
+  t.count = 300;
+  t.lo = Vec<3>(0, 0, 0);
+  t.hi = Vec<3>(5e-3, 5e-3, 5e-3);
+  t.seed = 5;
+  expect_shares_give_the_whole(t, {2, 2, 2});
 }
 
 // Long fibers (issue 12 part 5): aspect ratio 20 to 50 in the paper's bath,

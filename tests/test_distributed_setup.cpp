@@ -17,6 +17,7 @@
 #include "sphdem/core/errors.hpp"
 #include "sphdem/parallel/comm.hpp"
 #include "sphdem/parallel/decomposition.hpp"
+#include "sphdem/solver/solver.hpp"
 #include "validation_helpers.hpp"
 
 namespace sphdem {
@@ -108,6 +109,54 @@ TEST(DistributedSetup, HydrostaticColumn3DOnCoarseTopCellsMatchesOneRank) {
   expect_share_of_one_rank_set<3>(
       testing::load_input("validation/hydrostatic_3d.yaml",
                           {"parallel.min_top_cells=1", "parallel.top_cells_per_rank=4"}));
+}
+
+// Fibers (issue 14 part 1): each rank places only the fibers whose centre
+// lies in its top-level cells; after the set-up each rank holds the fiber
+// particles in its cells, each equal to the one-rank placement's particle
+// of its id in every restartable field (bonds included), bit for bit, and
+// together they are all of them.
+TEST(DistributedSetup, FibersMatchOneRankPlacement) {
+  const Case c = testing::load_input("validation/coupled_box.yaml", {"fibers.count=60"});
+  std::vector<int> wall_owner;
+  FiberPlacement serial;
+  const DemSystem<2> all = case_fibers<2>(c, wall_owner, serial);
+  const Comm comm;
+  RunOptions opt;
+  opt.write_output = false;
+  const Simulation<2> sim(c, comm, opt);
+  const DemDomain<2>& dem = *sim.dem();
+  const DemParticles<2>& mine = dem.particles();
+  EXPECT_EQ(sim.placement().fibers, serial.fibers);
+  EXPECT_EQ(sim.placement().tries, serial.tries);
+  EXPECT_EQ(comm.sum(static_cast<std::int64_t>(mine.n_owned)),
+            static_cast<std::int64_t>(all.particles.size()));
+  if (comm.size() > 1) {
+    EXPECT_LT(mine.n_owned, all.particles.size()) << "one rank holds all";
+  }
+  const DemParticles<2>& one = all.particles;
+  std::size_t mismatched = 0;
+  const auto differs = [&](std::int64_t id, const char* what) {
+    if (++mismatched <= 5) ADD_FAILURE() << "gid " << id << ": " << what << " differs";
+  };
+  for (std::size_t i = 0; i < mine.n_owned; ++i) {
+    const auto j = static_cast<std::size_t>(mine.gid[i]);
+    ASSERT_LT(j, one.size());
+    ASSERT_EQ(one.gid[j], mine.gid[i]);
+    if (sim.decomposition().owner(mine.x[i]) != comm.rank()) differs(mine.gid[i], "owner");
+    if (!(one.x[j] == mine.x[i])) differs(mine.gid[i], "x");
+    if (!(one.v[j] == mine.v[i])) differs(mine.gid[i], "v");
+    if (one.fiber[j] != mine.fiber[i]) differs(mine.gid[i], "fiber");
+    if (one.radius[j] != mine.radius[i] || one.mass[j] != mine.mass[i])
+      differs(mine.gid[i], "mass");
+    for (std::size_t b = 0; b < one.bonds[j].size(); ++b) {
+      const DemBond<2>&p = one.bonds[j][b], &q = mine.bonds[i][b];
+      if (p.partner != q.partner || p.id != q.id || p.broken != q.broken || p.rbar != q.rbar ||
+          p.length0 != q.length0)
+        differs(mine.gid[i], "bond");
+    }
+  }
+  EXPECT_EQ(mismatched, 0u);
 }
 
 // A fill region without a node is an input error on every rank (none waits

@@ -35,9 +35,10 @@ const Comm& comm() {
 // with outward normals +y and +x; the particles 3 spacings or more inside,
 // and those along the walls (left, floor) away from the open sides, are not.
 TEST(FreeSurface, DetectsTheOpenSidesOfAColumnWithOutwardNormals) {
-  const Case c = testing::load_input(
-      "validation/dam_break_front.yaml",
-      {"body_force=[0, 0]", "numerics.particle_shifting=false", "output.fields=[free_surface]"});
+  const Case c =
+      testing::load_input("validation/dam_break_front.yaml",
+                          {"body_force=[0, 0]", "numerics.particle_shifting=false",
+                           "output.fields=[free_surface, surface_normal, position_divergence]"});
   Simulation<2> sim(c, comm(), quiet());
   sim.advance(1);
   const SphParticles<2>& ps = sim.particles();

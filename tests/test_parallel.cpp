@@ -61,7 +61,8 @@ std::vector<Row> gather_fluid(const Comm& comm, const SphParticles<D>& ps) {
     for (int k = 0; k < D; ++k) r.value[k] = ps.x[i][k];
     for (int k = 0; k < D; ++k) r.value[D + k] = ps.v[i][k];
     r.value[2 * D] = ps.rho[i];
-    r.value[2 * D + 1] = ps.temperature[i];
+    // Held only by thermal cases (drop_unused_fields).
+    r.value[2 * D + 1] = ps.temperature.empty() ? 0.0 : ps.temperature[i];
     mine.push_back(r);
   }
   return testing_mpi::gather_rows(comm, mine);

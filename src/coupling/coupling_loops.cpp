@@ -160,7 +160,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
       const double vol_r = sph.mass[r] / sph.rho[r], w = kernel.w(n.r);
       shepard.add(vol_r, w, sph.v[r]);
       if (s.drag.local_viscosity) mu_sum += vol_r * w * sph.viscosity[r];
-      sum_t += vol_r * w * sph.temperature[r];
+      if (!sph.temperature.empty()) sum_t += vol_r * w * sph.temperature[r];
     }
     dem.resin_temperature[f] = shepard.has_resin() ? sum_t / shepard.s : 0.0;
     CouplingParams law = s.drag;

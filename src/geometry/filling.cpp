@@ -251,7 +251,8 @@ void LatticeFill<D>::push(SphParticles<D>& out, std::int64_t gid, const Vec<D>& 
   } else if (cls.wall()) {
     out.push_owned(gid, Kind::Wall, wall_index_at<D>(m.c, p, m.tol), m.mass, p, Vec<D>::Zero(),
                    rho0);
-    out.wall_to_surface.back() = to_mold_surface<D>(m.c.mold.shapes, p, m.L.dx);
+    if (!out.wall_to_surface.empty())  // dropped unless some option reads it
+      out.wall_to_surface.back() = to_mold_surface<D>(m.c.mold.shapes, p, m.L.dx);
   }
 }
 

@@ -13,6 +13,7 @@
 #include "sphdem/parallel/decomposition.hpp"
 #include "sphdem/particles/dem_particles.hpp"
 #include "sphdem/particles/particles.hpp"
+#include "sphdem/sph/sph.hpp"
 
 namespace sphdem {
 
@@ -52,14 +53,22 @@ double band(const Shape& s, int dim, double t) {
   return length * t + 4 * t * t;
 }
 
-// Bytes per particle of a field registry (every field, owned or ghost).
+// Bytes per particle of a field registry (the fields ps holds, owned or ghost).
 template <class P>
-double registry_bytes() {
+double registry_bytes(const P& ps = P()) {
   double bytes = 0;
-  P().for_each_field([&](const char*, const auto& field, FieldPolicy) {
+  ps.for_each_field([&](const char*, const auto& field, FieldPolicy) {
     bytes += sizeof(typename std::decay_t<decltype(field)>::value_type);
   });
   return bytes;
+}
+
+// Bytes per SPH particle of the fields the case's options use (drop_unused_fields).
+template <int D>
+double sph_field_bytes(const Case& c) {
+  SphParticles<D> ps;
+  drop_unused_fields<D>(make_sph_params(c), any_slip_wall(c), ps);
+  return registry_bytes(ps);
 }
 
 // Cells of a grid over `lo`..`hi` whose cells are at least `cell` wide.
@@ -78,11 +87,12 @@ constexpr double kBytesPerCell = 4 + 2 * 8;
 // (measured: 36.6 MiB on one rank, 39.0 MiB on each of four, for the plate
 // at spacing 6e-4 m; docs/scaling.md, "Memory per rank").
 constexpr double kProcessBytes = 38.0 * 1024 * 1024;
-// Allocator slack over the bytes the particles' fields and lists hold:
-// fitted to the measured peak of a 2 M particle box at 1, 2, 4 and 8 ranks
-// and the plate at 266k particles at 1, 2 and 4 (all within 20 %;
-// docs/scaling.md, "Memory per rank").
-constexpr double kSphOverhead = 1.1;
+// What the fields and lists leave out (the pair loop's records, the
+// snapshots' buffers, the allocator's slack), as a factor over them:
+// fitted to the measured peak of the 2 M particle box at 1 rank once the
+// fields were held only when used (docs/scaling.md, "Memory per rank",
+// where 2, 4 and 8 ranks are within 20 % of it).
+constexpr double kSphOverhead = 1.35;
 // The fibers' part, measured against `sphdem check`'s peak resident size
 // before the resin's calibration (allocator slack, pair-list growth).
 constexpr double kDemOverhead = 1.6;
@@ -112,7 +122,7 @@ CaseSize estimate(const Case& c, int ranks) {
     s.resin = std::min(s.resin, s.lattice_nodes);
     s.walls = std::min(s.walls, s.lattice_nodes);
     const double n = s.resin + s.walls;
-    const double per_particle = registry_bytes<SphParticles<D>>();
+    const double per_particle = sph_field_bytes<D>(c);
     const double owned = n / p;
     // A rank's ghosts: a layer `reach` spacings deep around its share.
     const double ghosts =
@@ -144,10 +154,13 @@ CaseSize estimate(const Case& c, int ranks) {
           std::ceil(f.area_fraction * measure(f.region, D) / (particle * f.particles_per_fiber));
     }
     s.dem = fibers * f.particles_per_fiber;
-    // Every rank holds every fiber at set-up (and in a fibers-only run's
-    // pair search); its cell list has up to 16 cells per particle.
-    dem_bytes =
-        kDemOverhead * s.dem * (registry_bytes<DemParticles<D>>() + 16 * 2 * sizeof(std::int32_t));
+    // Each rank places and holds its share of the fibers (place_fibers by
+    // tiles, docs/dem.md); its cell list has up to 16 cells per particle.
+    // The stable step's index by gid is the one array of every fiber
+    // particle (4 bytes each).
+    dem_bytes = kDemOverhead * s.dem / p *
+                    (registry_bytes<DemParticles<D>>() + 16 * 2 * sizeof(std::int32_t)) +
+                sizeof(std::int32_t) * s.dem;
     if (c.fill.empty()) {
       // A fibers-only run's cells, about one diameter wide, over the mold
       // and a margin of a tenth of it (src/solver/dem_run.cpp).

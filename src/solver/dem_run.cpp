@@ -8,12 +8,14 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <ostream>
 #include <stdexcept>
 
 #include "dem_snapshot.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/geometry/geometry.hpp"
+#include "sphdem/parallel/agreement.hpp"
 #include "sphdem/parallel/timers.hpp"
 
 namespace sphdem {
@@ -65,13 +67,14 @@ double implicit_chain_reach(const Case& c) {
 }
 
 template <int D>
-DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlacement& placement) {
+DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlacement& placement,
+                         const FiberShare<D>* share) {
   DemSystem<D> all;
   all.walls = dem_walls_from_case<D>(c, wall_owner);
   all.params = dem_params<D>(c);
   const FiberSettings& f = *c.fibers;
   try {
-    placement = place_fibers(fiber_spec<D>(f), all);
+    placement = place_fibers(fiber_spec<D>(f), all, share);
   } catch (const std::runtime_error& e) {
     const bool from_set = f.amount_line == 0;
     throw InputError(from_set ? "--set" : c.source_file, f.amount_line,
@@ -80,42 +83,105 @@ DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlace
   return all;
 }
 
+namespace {
+
+// This rank's part of the fibers (place_fibers): the boxes of its top-level
+// cells, the outer ones reaching to infinity as the grid clamps positions
+// into them, and the owner of a fiber's centre.
+template <int D>
+FiberShare<D> rank_share(const Decomposition<D>& dec) {
+  FiberShare<D> share;
+  const CellGrid<D>& cells = dec.grid();
+  const CellGrid<D>& blocks = dec.block_grid();
+  const long edge = dec.block_edge();
+  const std::vector<int>& owners = dec.block_owners();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  for (long b = 0; b < static_cast<long>(owners.size()); ++b) {
+    if (owners[static_cast<std::size_t>(b)] != dec.comm().rank()) continue;
+    const auto c = blocks.coords_of(b);
+    Vec<D> lo, hi;
+    for (int k = 0; k < D; ++k) {
+      const long first = c[k] * edge, end = std::min((c[k] + 1) * edge, cells.dims()[k]);
+      lo[k] = first == 0 ? -kInf : cells.lower(k, first);
+      hi[k] = end == cells.dims()[k] ? kInf : cells.lower(k, end);
+    }
+    share.boxes.emplace_back(lo, hi);
+  }
+  share.owns = [&dec](const Vec<D>& x) { return dec.owner(x) == dec.comm().rank(); };
+  return share;
+}
+
+}  // namespace
+
 template <int D>
 FiberModule<D>::FiberModule(const RunContext<D>& ctx, const FiberHost<D>* host) : ctx_(ctx) {
   const Case& c = ctx.case_data;
   if (!c.fibers) throw std::invalid_argument("sphdem: a fiber module needs a case with fibers");
   if (host) host_.emplace(*host);
-  // Every rank places the same fibers (same seed), then keeps its own.
-  DemSystem<D> all = case_fibers<D>(c, wall_owner_, placement_);
-  dem_dt_ = bond_dt_ = all.stable_dt();
-  if (all.params.subcycle_bonds) {  // bonds in inner steps, the step is the contacts'
-    all.params.bond_dt = dem_dt_;
-    dem_dt_ = stable_dem_outer_dt(all.params, all.particles);
+  const Decomposition<D>* dec = host_ ? &host_->dec : nullptr;
+  if (!host_) {
+    std::vector<int> unused;
+    const std::vector<DemWall<D>> walls = dem_walls_from_case<D>(c, unused);
+    Box<D> box;
+    box.lo = box.hi = walls.front().point;
+    for (const DemWall<D>& w : walls) {
+      box.lo = box.lo.cwiseMin(w.point).cwiseMin(w.end);
+      box.hi = box.hi.cwiseMax(w.point).cwiseMax(w.end);
+    }
+    // The cells cover the mold and the health check's margin around it.
+    const double margin = 0.1 * (box.hi - box.lo).maxCoeff();
+    health_box_ = Box<D>{box.lo.array() - margin, box.hi.array() + margin};
+    const double r = 0.5 * c.fibers->diameter;
+    own_dec_ = std::make_unique<Decomposition<D>>(
+        ctx.comm, health_box_, std::array<bool, 3>{false, false, false},
+        std::max(DemDomain<D>::reach(r, r), implicit_chain_reach(c)));
+    // Partitioned by where the fibers' first candidates lie (every rank
+    // draws them, the same, without placing anything): nearly always
+    // where the fibers end up.
+    const FiberSpec<D> spec = fiber_spec<D>(*c.fibers);
+    std::vector<std::int64_t> work(static_cast<std::size_t>(own_dec_->blocks()), 0);
+    for (int f = 0, n = fiber_target(spec); f < n; ++f)
+      work[static_cast<std::size_t>(own_dec_->block_of(first_fiber_centre(spec, f)))] +=
+          spec.particles_per_fiber;
+    own_dec_->partition(work, true);
+    dec = own_dec_.get();
+  } else {
+    health_box_ = host_->domain;
+  }
+  // Each rank places the fibers whose centre lies in its cells (issue 14:
+  // the same fibers at any rank count); a fiber that does not fit stops
+  // every rank with the same error (the lowest failing rank's).
+  const FiberShare<D> share = rank_share(*dec);
+  DemSystem<D> mine;
+  mine.walls = dem_walls_from_case<D>(c, wall_owner_);
+  mine.params = dem_params<D>(c);
+  const FiberSettings& f = *c.fibers;
+  std::optional<std::string> error;
+  try {
+    placement_ = place_fibers(fiber_spec<D>(f), mine, &share);
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  if (const std::optional<RankFailure> failed = first_failure(ctx.comm, error)) {
+    const bool from_set = f.amount_line == 0;
+    throw InputError(from_set ? "--set" : c.source_file, f.amount_line,
+                     f.count > 0 ? "fibers.count" : "fibers.area_fraction", failed->message);
+  }
+  placement_.tries = ctx.comm.sum(placement_.tries);
+  // The same step on every rank (a rank may hold no fiber).
+  dem_dt_ = bond_dt_ = ctx.comm.min(mine.stable_dt());
+  if (mine.params.subcycle_bonds) {  // bonds in inner steps, the step is the contacts'
+    mine.params.bond_dt = dem_dt_;
+    dem_dt_ = ctx.comm.min(stable_dem_outer_dt(mine.params, mine.particles));
   }
   if (host_) {
-    health_box_ = host_->domain;
-    dem_ = std::make_unique<DemDomain<D>>(host_->dec, all.params, all.walls,
-                                          std::move(all.particles), host_->halo_range);
+    dem_ = std::make_unique<DemDomain<D>>(host_->dec, mine.params, mine.walls,
+                                          std::move(mine.particles), host_->halo_range,
+                                          DemDomain<D>::Input::Share);
     return;
   }
-  Box<D> box;
-  box.lo = box.hi = all.walls.front().point;
-  for (const DemWall<D>& w : all.walls) {
-    box.lo = box.lo.cwiseMin(w.point).cwiseMin(w.end);
-    box.hi = box.hi.cwiseMax(w.point).cwiseMax(w.end);
-  }
-  // The cells cover the mold and the health check's margin around it.
-  const double margin = 0.1 * (box.hi - box.lo).maxCoeff();
-  health_box_ = Box<D>{box.lo.array() - margin, box.hi.array() + margin};
-  const double r = 0.5 * c.fibers->diameter;
-  own_dec_ = std::make_unique<Decomposition<D>>(
-      ctx.comm, health_box_, std::array<bool, 3>{false, false, false},
-      std::max(DemDomain<D>::reach(r, r), implicit_chain_reach(c)));
-  std::vector<std::int64_t> work(static_cast<std::size_t>(own_dec_->blocks()), 0);
-  for (std::size_t i = 0; i < all.particles.n_owned; ++i)
-    ++work[static_cast<std::size_t>(own_dec_->block_of(all.particles.x[i]))];
-  own_dec_->partition(work, true);
-  dem_ = std::make_unique<DemDomain<D>>(*own_dec_, all.params, all.walls, std::move(all.particles));
+  dem_ = std::make_unique<DemDomain<D>>(*own_dec_, mine.params, mine.walls,
+                                        std::move(mine.particles), 0.0, DemDomain<D>::Input::Share);
 }
 
 template <int D>
@@ -241,8 +307,10 @@ DemRun<D>::DemRun(const Case& c, const Comm& comm, RunOptions opt)
                  : c,
              comm, std::move(opt)) {}
 
-template DemSystem<2> case_fibers<2>(const Case&, std::vector<int>&, FiberPlacement&);
-template DemSystem<3> case_fibers<3>(const Case&, std::vector<int>&, FiberPlacement&);
+template DemSystem<2> case_fibers<2>(const Case&, std::vector<int>&, FiberPlacement&,
+                                     const FiberShare<2>*);
+template DemSystem<3> case_fibers<3>(const Case&, std::vector<int>&, FiberPlacement&,
+                                     const FiberShare<3>*);
 template class FiberModule<2>;
 template class FiberModule<3>;
 template class DemRun<2>;

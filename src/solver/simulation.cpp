@@ -39,6 +39,8 @@ ResinModule<D>::ResinModule(const RunContext<D>& ctx)
       dec_(comm_, domain_, case_.periodic, std::max(nl_.cutoff(), implicit_chain_reach(case_)),
            max_blocks(comm_.size(), case_.parallel.min_top_cells,
                       case_.parallel.top_cells_per_rank)) {
+  // Only the fields the case's options use take memory (docs/performance.md).
+  drop_unused_fields<D>(sp_, any_slip_wall(case_), ps_);
   // Each rank fills only its share, partitioned by the lattice's work.
   const InitialCounts counts = fill_distributed<D>(case_, dec_, ps_);
   n_fluid_global_ = static_cast<std::int64_t>(counts.fluid);
@@ -253,7 +255,7 @@ void ResinModule<D>::predict(double dt) {
     if (ps_.kind[i] == Kind::Fluid) {
       ps_.v_half[i] = ps_.v[i] + half * ps_.a[i];
       ps_.rho_half[i] = ps_.rho[i] + half * ps_.drho[i];
-      if (ps_.frozen[i]) ps_.v_half[i].setZero();
+      if (ps_.is_frozen(i)) ps_.v_half[i].setZero();
       ps_.x[i] += dt * ps_.v_half[i];
       ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
       ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
@@ -285,7 +287,7 @@ void ResinModule<D>::correct(double dt) {
   const double half = 0.5 * dt;
   for (std::size_t i = 0; i < ps_.n_owned; ++i) {
     if (ps_.kind[i] == Kind::Fluid) {
-      if (ps_.frozen[i]) ps_.a[i].setZero();
+      if (ps_.is_frozen(i)) ps_.a[i].setZero();
       ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
     }
   }

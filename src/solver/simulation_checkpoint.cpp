@@ -97,6 +97,7 @@ std::function<void()> ResinModule<D>::read_checkpoint(CheckpointReader& r,
                        std::string("field '") + kThermalColumns[k] + "' has the wrong size");
   }
   auto loaded = std::make_shared<SphParticles<D>>();
+  drop_unused_fields<D>(sp_, any_slip_wall(case_), *loaded);  // the fields of the running case
   const std::size_t rows = cols.empty() ? 0 : cols.front().rows();
   assign_checkpoint_columns(*loaded, cols, rows, path);
   for (int k = 0; k < static_cast<int>(thermal.size()); ++k) {
@@ -124,7 +125,7 @@ std::function<void()> ResinModule<D>::read_checkpoint(CheckpointReader& r,
       ps_.p[i] = 0.0;  // derived, recomputed before use
       ps_.vwall[i] = ps_.v[i];
       ps_.rho_half[i] = ps_.rho[i];
-      ps_.temp_half[i] = ps_.temperature[i];
+      if (sp_.thermal) ps_.temp_half[i] = ps_.temperature[i];
       // v_half is free until the next step's first kick: it carries the
       // current position through the rebuild at the positions of the last one.
       ps_.v_half[i] = ps_.x[i];

@@ -165,7 +165,7 @@ ViscousSolveStats solve_implicit_viscosity(const SphParams& sp, double dt, doubl
   // Unknowns, known values and start values, then to the ghosts.
   for (std::size_t i = 0; i < n; ++i) {
     const bool fluid = ps.kind[i] == Kind::Fluid;
-    const bool free = fluid && ps.frozen[i] == 0;
+    const bool free = fluid && !ps.is_frozen(i);
     ps.visc_free[i] = free ? 1.0 : 0.0;
     ps.visc_u[i] = fluid ? ps.v[i] : ps.vwall[i];
   }

@@ -119,12 +119,21 @@ LocalExtremes local_extremes(const SphParticles<D>& ps) {
   double v2 = 0.0, a2 = 0.0, mu = 0.0;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     v2 = std::max(v2, ps.v[i].squaredNorm());
-    if (ps.kind[i] == Kind::Fluid && ps.frozen[i] == 0) {
+    if (ps.kind[i] == Kind::Fluid && !ps.is_frozen(i)) {
       a2 = std::max(a2, ps.a[i].squaredNorm());
-      mu = std::max(mu, ps.viscosity[i]);
+      if (!ps.viscosity.empty()) mu = std::max(mu, ps.viscosity[i]);
     }
   }
   return {std::sqrt(v2), std::sqrt(a2), mu};
+}
+
+bool any_slip_wall(const Case& c) {
+  bool slip = resolve_wall_slip(c.mold, c.mold).type != WallSlip::NoSlip;
+  for (const MovingWall& m : c.moving_walls)
+    slip = slip || resolve_wall_slip(m, c.mold).type != WallSlip::NoSlip;
+  for (const SlidingWall& s : c.sliding_walls)
+    slip = slip || resolve_wall_slip(s, c.mold).type != WallSlip::NoSlip;
+  return slip;
 }
 
 const char* to_string(DtLimit l) {

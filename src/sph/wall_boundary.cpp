@@ -102,7 +102,10 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
     ps.p[w] = p;
     ps.rho[w] = eos.density(p);
     const WallSlipLaw& law = listed ? walls[static_cast<std::size_t>(k)].slip : sp.mold_wall;
-    ps.vwall[w] = dummy_velocity<D>(law, ps.v[w], sum_v / sum_w, ps.wall_to_surface[w]);
+    // Held only when some wall slips (drop_unused_fields); no-slip does not read it.
+    const Vec<D> to_surface =
+        ps.wall_to_surface.empty() ? Vec<D>::Zero() : Vec<D>(ps.wall_to_surface[w]);
+    ps.vwall[w] = dummy_velocity<D>(law, ps.v[w], sum_v / sum_w, to_surface);
     if (listed) face.push_back({ps.gid[w], k, p});
   }
   return face;

@@ -2,7 +2,10 @@
 // Random fiber placement (docs/dem.md, 2.4): straight chains of touching
 // equal particles, bonded along the chain, placed in a box without overlap.
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "sphdem/dem/dem.hpp"
 
@@ -33,14 +36,44 @@ struct FiberPlacement {
   std::int64_t tries = 0;  // candidate positions drawn
 };
 
+// The fibers one rank of several places (docs/dem.md, 2.4): those whose
+// centre lies in its top-level cells.
+template <int D>
+struct FiberShare {
+  std::vector<std::pair<Vec<D>, Vec<D>>> boxes;  // its top-level cells (lo, hi; may be infinite)
+  std::function<bool(const Vec<D>&)> owns;       // whether a centre is in its cells
+};
+
 // Appends the fibers to `sys` (gids continue after the existing particles,
 // fiber ids after the largest existing one) and bonds each chain. Existing
-// particles count as obstacles. Deterministic for a seed (std::mt19937_64).
-// Throws std::runtime_error naming the count and fraction reached when a
-// fiber finds no free place in `attempts_per_fiber` tries; sys is then left
-// unchanged.
+// particles count as obstacles. Deterministic for a seed, whatever the
+// share (docs/dem.md, "Fiber generator"): fiber f's candidates come from a
+// stream keyed by (seed, f, attempt) (SplitMix64); a fixed grid of equal
+// tiles over the region (at least a fiber plus the gap wide, about 32
+// fibers each) holds the fibers, the count split evenly over the tiles,
+// each fiber's centre drawn in its tile; tiles are placed by colour (2^D
+// colours, no two neighbours alike), so a fiber's overlap test sees
+// exactly the fibers of its tile and of its neighbours of lower colours,
+// on any rank. With a share, `sys` must be empty: only the fibers whose
+// centre the share owns are added, with the gids, fiber ids and bond ids
+// the whole placement gives them (fiber f: particles f ppf + k); the share
+// places the tiles that touch its boxes and those their results depend
+// on. Throws std::runtime_error naming the fiber when it finds no free
+// place in `attempts_per_fiber` tries (in its tile); sys is then left
+// unchanged. `tries` counts the owned fibers' tries.
 template <int D>
-FiberPlacement place_fibers(const FiberSpec<D>& spec, DemSystem<D>& sys);
+FiberPlacement place_fibers(const FiberSpec<D>& spec, DemSystem<D>& sys,
+                            const FiberShare<D>* share = nullptr);
+
+// The number of fibers of the spec (its count, or the smallest that reaches its fraction).
+template <int D>
+int fiber_target(const FiberSpec<D>& spec);
+
+// The centre of fiber f's first candidate (in its tile; where it lies
+// unless that candidate overlaps): every rank can weigh the fibers' work
+// per cell without placing them.
+template <int D>
+Vec<D> first_fiber_centre(const FiberSpec<D>& spec, int f);
 
 // Area (2D) or volume (3D) of the particles of n fibers.
 template <int D>

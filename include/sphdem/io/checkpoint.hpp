@@ -77,17 +77,20 @@ constexpr int column_components() {
 
 }  // namespace detail
 
-// The checkpointed fields of particles [0, n_owned), in registry order.
+// The checkpointed fields of particles [0, n_owned), in registry order. A
+// dropped field (one the case's options do not use) is written as zeros,
+// its value when it was always held, so the format does not depend on the
+// options (docs/checkpoint.md).
 template <class P>
 std::vector<CheckpointColumn> checkpoint_columns(const P& ps) {
   std::vector<CheckpointColumn> out;
-  ps.for_each_field([&](const char* name, auto& field, FieldPolicy p) {
+  ps.for_each_declared_field([&](const char* name, auto& field, FieldPolicy p) {
     if (!p.checkpoint) return;
     using T = typename std::decay_t<decltype(field)>::value_type;
     CheckpointColumn c{
         name, detail::column_type<T>(), detail::column_components<T>(), sizeof(T), {}};
-    c.data.resize(ps.n_owned * sizeof(T));
-    if (ps.n_owned > 0)
+    c.data.assign(ps.n_owned * sizeof(T), char{0});
+    if (ps.n_owned > 0 && ps.has_field(name))
       std::memcpy(c.data.data(), static_cast<const void*>(field.data()), c.data.size());
     out.push_back(std::move(c));
   });
@@ -96,7 +99,8 @@ std::vector<CheckpointColumn> checkpoint_columns(const P& ps) {
 
 // Replaces the particles by `rows` owned ones taken from `cols` (matched by
 // name; every checkpointed field must be there, with this build's type and
-// row size). Fields that are not checkpointed are value-initialised. Throws
+// row size). Fields that are not checkpointed are value-initialised; the
+// column of a dropped field is read past. Throws
 // InputError naming `file` on any mismatch (every rank reads the same
 // header, so every rank throws).
 template <class P>
@@ -106,7 +110,7 @@ void assign_checkpoint_columns(P& ps, const std::vector<CheckpointColumn>& cols,
   ps.resize(rows);
   ps.n_owned = rows;
   std::size_t used = 0;
-  ps.for_each_field([&](const char* name, auto& field, FieldPolicy p) {
+  const auto visit = [&](const char* name, auto& field, FieldPolicy p) {
     if (!p.checkpoint) return;
     using T = typename std::decay_t<decltype(field)>::value_type;
     const CheckpointColumn* c = nullptr;
@@ -121,9 +125,11 @@ void assign_checkpoint_columns(P& ps, const std::vector<CheckpointColumn>& cols,
                        "field '" + c->name + "' has " + std::to_string(c->row_bytes) +
                            "-byte records, this build expects " + std::to_string(sizeof(T)) +
                            ": the checkpoint was written by an incompatible build of sphdem");
-    if (rows > 0) std::memcpy(static_cast<void*>(field.data()), c->data.data(), rows * sizeof(T));
+    if (rows > 0 && field.size() == rows)
+      std::memcpy(static_cast<void*>(field.data()), c->data.data(), rows * sizeof(T));
     ++used;
-  });
+  };
+  P::visit_fields(ps, visit, true);
   if (used != cols.size())
     throw InputError(file, 0, "",
                      "the checkpoint has fields this build does not know: it was written by an "

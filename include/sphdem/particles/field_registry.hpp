@@ -24,6 +24,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <stdexcept>
+#include <string>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -158,26 +160,73 @@ void resize_field(V& field, std::size_t n) {
 }  // namespace sphdem
 
 // Expanded inside a container by SPHDEM_FIELD_REGISTRY (the `policy`
-// argument is an expression of the flags above).
+// argument is an expression of the flags above). `k` counts the fields in
+// list order: bit k of `absent_fields_` marks field k as dropped.
 #define SPHDEM_FIELD_MEMBER(type, member, policy) std::vector<type> member;
-#define SPHDEM_FIELD_VISIT(type, member, policy) f(#member, self.member, (policy));
+#define SPHDEM_FIELD_COUNT(type, member, policy) +1
+#define SPHDEM_FIELD_VISIT(type, member, policy)                                    \
+  if (all || !((self.absent_fields_ >> k) & 1u)) f(#member, self.member, (policy)); \
+  ++k;
 
 // The members of the list and the registry functions over them:
 // for_each_field (const and not), resize, copy_particle (every field of
 // slot src onto slot dst) and zero_particle (every field of slot i zero).
+// A field can be dropped (drop_field): its vector stays empty and every
+// registry function skips it (halo, migration, snapshots, the reserve of
+// the set-up), so a case pays memory only for the fields its options use
+// (docs/performance.md, "Memory per particle"). for_each_declared_field
+// visits every field of the list, dropped or not (checkpoints keep their
+// columns; listings of the registry).
 #define SPHDEM_FIELD_REGISTRY(LIST)                                                         \
   LIST(SPHDEM_FIELD_MEMBER)                                                                 \
+  static_assert(0 LIST(SPHDEM_FIELD_COUNT) <= 64, "absent_fields_ has a bit per field");    \
+  std::uint64_t absent_fields_ = 0;                                                         \
   template <class Self, class F>                                                            \
-  static void visit_fields(Self& self, F& f) {                                              \
+  static void visit_fields(Self& self, F& f, bool all) {                                    \
+    unsigned k = 0;                                                                         \
     LIST(SPHDEM_FIELD_VISIT)                                                                \
+    (void)k;                                                                                \
   }                                                                                         \
   template <class F>                                                                        \
   void for_each_field(F&& f) {                                                              \
-    visit_fields(*this, f);                                                                 \
+    visit_fields(*this, f, false);                                                          \
   }                                                                                         \
   template <class F>                                                                        \
   void for_each_field(F&& f) const {                                                        \
-    visit_fields(*this, f);                                                                 \
+    visit_fields(*this, f, false);                                                          \
+  }                                                                                         \
+  template <class F>                                                                        \
+  void for_each_declared_field(F&& f) const {                                               \
+    visit_fields(*this, f, true);                                                           \
+  }                                                                                         \
+  /* Whether field `name` holds values (not dropped). */                                    \
+  bool has_field(std::string_view name) const {                                             \
+    bool found = false, present = false;                                                    \
+    unsigned k = 0;                                                                         \
+    for_each_declared_field([&](const char* n, const auto&, ::sphdem::FieldPolicy) {        \
+      if (name == n) {                                                                      \
+        found = true;                                                                       \
+        present = !((absent_fields_ >> k) & 1u);                                            \
+      }                                                                                     \
+      ++k;                                                                                  \
+    });                                                                                     \
+    if (!found) throw std::logic_error("sphdem: no particle field " + std::string(name));   \
+    return present;                                                                         \
+  }                                                                                         \
+  /* Drops field `name`: its memory is freed and no registry function visits it. */         \
+  void drop_field(std::string_view name) {                                                  \
+    bool found = false;                                                                     \
+    unsigned k = 0;                                                                         \
+    auto drop = [&](const char* n, auto& field, ::sphdem::FieldPolicy) {                    \
+      if (name == n) {                                                                      \
+        found = true;                                                                       \
+        absent_fields_ |= std::uint64_t{1} << k;                                            \
+        std::decay_t<decltype(field)>().swap(field);                                        \
+      }                                                                                     \
+      ++k;                                                                                  \
+    };                                                                                      \
+    visit_fields(*this, drop, true);                                                        \
+    if (!found) throw std::logic_error("sphdem: no particle field " + std::string(name));   \
   }                                                                                         \
   void resize(std::size_t n) {                                                              \
     for_each_field([n](const char*, auto& field, ::sphdem::FieldPolicy) {                   \

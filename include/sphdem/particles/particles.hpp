@@ -139,6 +139,10 @@ struct SphParticles {
     n_owned = i + 1;
   }
 
+  // Whether particle i holds its position this step (below the no-flow
+  // temperature); only thermal cases hold the flag (drop_unused_fields).
+  bool is_frozen(std::size_t i) const { return !frozen.empty() && frozen[i] != 0; }
+
   // Drops every ghost.
   void clear_ghosts() { resize(n_owned); }
 

@@ -24,11 +24,12 @@
 
 namespace sphdem {
 
-// The case's fibers, placed (every rank the same), with the walls and the
-// parameters of the case. InputError naming fibers.count or
+// The case's fibers, placed (all of them, or a rank's share), with the walls
+// and the parameters of the case. InputError naming fibers.count or
 // fibers.area_fraction when they do not fit.
 template <int D>
-DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlacement& placement);
+DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlacement& placement,
+                         const FiberShare<D>* share = nullptr);
 
 // Where coupled fibers live: the resin's decomposition, the mold box they
 // must stay in, and how far their ghosts reach (the SPH kernel support).

@@ -65,6 +65,8 @@ struct SphParams {
 };
 
 SphParams make_sph_params(const Case& c);
+// Whether some wall of the case (the mold, a moving or a sliding wall) is not no-slip.
+bool any_slip_wall(const Case& c);
 
 // Lattice corrections (numerics.lattice_correction). On a Cartesian lattice
 // the discrete moment M = -sum_j V_j F(r_j) x_j^2 is not the continuum's 1:
@@ -127,6 +129,13 @@ void compute_fluid_rates(const SphParams& sp, const NeighborList<D>& nl, SphPart
 template <int D>
 void compute_fluid_passes(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
                           const std::function<void(SphGroup)>& forward);
+
+// Drops the particle fields (SphParticles::drop_field) that no option of sp
+// reads or writes: temperature, shear rate, viscosity, the free-surface,
+// surface-tension and implicit-viscosity fields, the walls' distance to the
+// surface (slip_walls: some wall is not no-slip). Call it before filling.
+template <int D>
+void drop_unused_fields(const SphParams& sp, bool slip_walls, SphParticles<D>& ps);
 
 // Particle shifting after the second kick of a step of dt (src/sph/particle_shifting.cpp):
 // reads the free-surface pass's fields; nothing when sp.shifting is 0.

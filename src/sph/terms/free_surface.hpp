@@ -81,7 +81,8 @@ struct FreeSurfacePass {
   // The rest of the particle's result (the flag is finish's).
   template <int D>
   void store(const double* sums, SphParticles<D>& ps, std::size_t i) const {
-    ps.position_divergence[i] = sums[0];
+    // Each of these only when an option uses it (drop_unused_fields).
+    if (!ps.position_divergence.empty()) ps.position_divergence[i] = sums[0];
     Vec<D> grad_c, grad_ct;
     for (int d = 0; d < D; ++d) {
       grad_c[d] = sums[1 + d];
@@ -89,14 +90,15 @@ struct FreeSurfacePass {
     }
     const double norm = grad_c.norm();
     const bool surface = sums[0] < kFreeSurfaceThreshold<D> && norm > 0.0;
-    ps.surface_normal[i] = surface ? Vec<D>(-grad_c / norm) : Vec<D>::Zero();
-    ps.shifting_gradient[i] = grad_ct;
+    if (!ps.surface_normal.empty())
+      ps.surface_normal[i] = surface ? Vec<D>(-grad_c / norm) : Vec<D>::Zero();
+    if (!ps.shifting_gradient.empty()) ps.shifting_gradient[i] = grad_ct;
   }
   template <int D>
   void clear(SphParticles<D>& ps, std::size_t i) const {
-    ps.position_divergence[i] = 0.0;
-    ps.surface_normal[i] = Vec<D>::Zero();
-    ps.shifting_gradient[i] = Vec<D>::Zero();
+    if (!ps.position_divergence.empty()) ps.position_divergence[i] = 0.0;
+    if (!ps.surface_normal.empty()) ps.surface_normal[i] = Vec<D>::Zero();
+    if (!ps.shifting_gradient.empty()) ps.shifting_gradient[i] = Vec<D>::Zero();
   }
 };
 
