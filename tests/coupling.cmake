@@ -55,3 +55,10 @@ add_test(NAME shear_cell_long
                  ${CMAKE_CURRENT_BINARY_DIR}/shear_cell_long_out
                  ${PROJECT_SOURCE_DIR}/inputs/validation/shear_cell.yaml)
 set_tests_properties(shear_cell_long PROPERTIES TIMEOUT 1800 LABELS "long;coupling")
+
+# Exponential drag (fibers.drag_integration: exponential; docs/physics.md
+# "Exponential drag"): the two-body exchange, against the drag law and the
+# explicit drag at the paper resin's step, and a melt at 2000 fiber drag
+# times per step. Ranks: test_coupled_parallel.
+sphdem_test(test_exponential_drag SOURCES test_exponential_drag.cpp RANKS 1
+            LABELS "validation;coupling" TIMEOUT 300)
