@@ -51,14 +51,6 @@ const std::vector<std::string>& law_required(ViscosityLaw l) {
   return keys[static_cast<std::size_t>(l)];
 }
 
-// A warning that names the file, line and key, like an error but not fatal.
-void warn_at(const Value& v, Context& ctx, const std::string& message) {
-  const int line = v.line();
-  const std::string file = v.source().overridden(v.key()) ? "--set" : v.source().file();
-  ctx.c.warnings.push_back(fmt::format(
-      "{}{}: key '{}': {}", file, line > 0 ? ":" + std::to_string(line) : "", v.key(), message));
-}
-
 // The Celsius warning of every temperature key (schema.hpp).
 void warn_celsius(const Value& v, double kelvin, Context& ctx) {
   warn_if_celsius(v, kelvin, ctx);
