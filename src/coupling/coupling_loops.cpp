@@ -207,7 +207,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
 template <int D>
 Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
                          SphParticles<D>& sph, std::vector<double>& resin_void_fraction,
-                         double& resin_drag_rate) {
+                         double& resin_drag_rate, double impulse_dt) {
   const WendlandC2<D> kernel(s.h);
   const double support = kernel.support();
   resin_void_fraction.assign(sph.n_owned, 1.0);
@@ -272,7 +272,15 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
     if (!touched[k]) continue;
     const auto r = static_cast<std::size_t>(resin[k]);
     // 2D: the drag is per depth `thickness`, the resin's mass per metre.
-    sph.a[r] += force[k] / (s.thickness * sph.mass[r]);
+    if (impulse_dt > 0) {
+      if (!sph.frozen[r]) {
+        const Vec<D> dv = (impulse_dt / (s.thickness * sph.mass[r])) * force[k];
+        sph.v_half[r] += dv;
+        sph.v[r] += dv;
+      }
+    } else {
+      sph.a[r] += force[k] / (s.thickness * sph.mass[r]);
+    }
     total += force[k];
     resin_drag_rate = std::max(resin_drag_rate, held[k] / (s.thickness * sph.mass[r]));
     const double eps = terms::void_fraction(phi[k], s.drag.eps_min);
@@ -290,8 +298,8 @@ template void drag_on_fibers<2>(const CouplingSettings&, const SphParticles<2>&,
 template void drag_on_fibers<3>(const CouplingSettings&, const SphParticles<3>&, DemParticles<3>&,
                                 CouplingState<3>&, double);
 template Vec<2> reaction_on_resin<2>(const CouplingSettings&, const DemParticles<2>&,
-                                     SphParticles<2>&, std::vector<double>&, double&);
+                                     SphParticles<2>&, std::vector<double>&, double&, double);
 template Vec<3> reaction_on_resin<3>(const CouplingSettings&, const DemParticles<3>&,
-                                     SphParticles<3>&, std::vector<double>&, double&);
+                                     SphParticles<3>&, std::vector<double>&, double&, double);
 
 }  // namespace sphdem

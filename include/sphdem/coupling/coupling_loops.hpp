@@ -80,9 +80,15 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
 // reaction relaxes a resin particle's velocity towards the fibers' (the
 // resin side of the exchange is explicit: docs/physics.md "The stable
 // window").
+// impulse_dt > 0 (exponential drag): the reaction is not an acceleration
+// but the impulse F_mean impulse_dt itself, added to the half-step velocity
+// v_half that the second kick starts from (and to v): the resin gets the
+// fibers' impulse in the step it was exchanged, not through its leapfrog a
+// step late; frozen resin keeps its rest (the impulse goes to the mold, as
+// at a wall).
 template <int D>
 Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
                          SphParticles<D>& sph, std::vector<double>& resin_void_fraction,
-                         double& resin_drag_rate);
+                         double& resin_drag_rate, double impulse_dt = 0.0);
 
 }  // namespace sphdem
