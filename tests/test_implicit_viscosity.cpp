@@ -316,9 +316,8 @@ TEST(ImplicitPoiseuille, MatchesTheSeriesSolution) {
   for (double tau : {0.05, 0.1, 0.25, 0.5, 1.0}) {
     const double t = tau * kL * kL / kNu;
     testing::run_until(sim, t);
-    const double error = testing::relative_l2_ux<2>(sim.particles(), [&](double y) {
-      return testing::poiseuille(y, sim.time(), kL, kNu, kF);
-    });
+    const double error = testing::relative_l2_ux<2>(
+        sim.particles(), [&](double y) { return testing::poiseuille(y, sim.time(), kL, kNu, kF); });
     std::printf("[          ] nu t/L^2 = %.2f: %lld steps, vs series %.4f, cg %d\n", tau,
                 static_cast<long long>(sim.step()), error, sim.resin()->viscous_iterations());
     if (tau >= 0.1) EXPECT_LT(error, 0.01) << "tau " << tau;

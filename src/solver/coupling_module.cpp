@@ -37,9 +37,9 @@ void CouplingModule<D>::rates() {
   drag_on_fibers<D>(coupling_, ps, dem, cstate_, fibers_.coupled_dt());
   domain.forward(DemGroup::Coupling);
   double rate = 0;
-  const Vec<D> reaction = reaction_on_resin<D>(
-      coupling_, dem, ps, resin_eps_, rate,
-      coupling_.exponential_drag ? fibers_.coupled_dt() : 0.0);
+  const Vec<D> reaction =
+      reaction_on_resin<D>(coupling_, dem, ps, resin_eps_, rate,
+                           coupling_.exponential_drag ? fibers_.coupled_dt() : 0.0);
   resin_drag_rate_ = ctx_.comm.max(rate);
   double drag_time = std::numeric_limits<double>::infinity();
   for (std::size_t f = 0; f < dem.n_owned; ++f) {
