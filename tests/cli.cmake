@@ -24,7 +24,7 @@ endif()
 
 # The tools answer --help and draw the real run's output.
 add_test(NAME tools_help
-         COMMAND sh -c "${SPHDEM_PYTHON} ${PROJECT_SOURCE_DIR}/tools/plot_snapshot.py --help && ${SPHDEM_PYTHON} ${PROJECT_SOURCE_DIR}/tools/plate_timeline.py --help")
+         COMMAND sh -c "${SPHDEM_PYTHON} ${PROJECT_SOURCE_DIR}/tools/plot_snapshot.py --help && ${SPHDEM_PYTHON} ${PROJECT_SOURCE_DIR}/tools/plate_timeline.py --help && ${SPHDEM_PYTHON} ${PROJECT_SOURCE_DIR}/tools/melt_maps.py --help")
 set_tests_properties(tools_help PROPERTIES LABELS "tools" TIMEOUT 60)
 add_test(NAME tools_plot_run_output
          COMMAND ${SPHDEM_PYTHON} ${PROJECT_SOURCE_DIR}/tools/plot_snapshot.py

@@ -84,3 +84,9 @@ set_tests_properties(
   PROPERTIES TIMEOUT 60 LABELS "cli" ENVIRONMENT "SPHDEM=$<TARGET_FILE:sphdem>"
              PASS_REGULAR_EXPRESSION
              "memory: about [0-9.]+ MiB per rank at 64 rank.*64 tasks on 2 node\\(s\\), [0-9]+ MiB per task")
+# Exponential drag (fibers.drag_integration: exponential; docs/physics.md
+# "Exponential drag"): the two-body exchange, against the drag law and the
+# explicit drag at the paper resin's step, and a melt at 2000 fiber drag
+# times per step. Ranks: test_coupled_parallel.
+sphdem_test(test_exponential_drag SOURCES test_exponential_drag.cpp RANKS 1
+            LABELS "validation;coupling" TIMEOUT 300)

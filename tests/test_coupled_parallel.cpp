@@ -32,11 +32,12 @@ struct State {
   std::int64_t ghost_fibers = 0, repartitions = 0;
 };
 
-State run(const Comm& comm, std::int64_t steps) {
+State run(const Comm& comm, std::int64_t steps, const std::string& drag = "explicit") {
   // Frequent re-partitions: the fibers must follow the resin's new map.
   const Case c =
       testing::load_input("validation/coupled_box.yaml",
-                          {"parallel.balance_every=20", "parallel.imbalance_threshold=0.001"});
+                          {"parallel.balance_every=20", "parallel.imbalance_threshold=0.001",
+                           "fibers.drag_integration=" + drag});
   RunOptions opt;
   opt.write_output = false;
   Simulation<2> sim(c, comm, opt);
@@ -80,6 +81,26 @@ TEST(CoupledParallel, RankIndependent) {
   EXPECT_EQ(testing_mpi::bitwise_mismatches(ref.fibers, got.fibers), 0u)
       << "fibers differ from the 1-rank run";
   EXPECT_EQ(got.fibers.size(), 120u);
+  EXPECT_GT(got.ghost_fibers, 0) << "no fiber near a rank border";
+  EXPECT_GT(got.repartitions, 0) << "no re-partition happened";
+}
+
+// The same with the exponential drag (docs/physics.md "Exponential drag"):
+// the parcel's mass comes from the resin and fibers within the kernel, which
+// every rank holding the fiber particle sees alike.
+TEST(CoupledParallel, ExponentialDragRankIndependent) {
+  const Comm world;
+  ASSERT_GT(world.size(), 1) << "a comparison with one rank needs several ranks";
+  const std::int64_t kSteps = 200;
+  State ref;
+  if (world.root()) ref = run(Comm(MPI_COMM_SELF), kSteps, "exponential");
+  testing_mpi::wait_for_root(world);
+  const State got = run(world, kSteps, "exponential");
+  if (!world.root()) return;
+  EXPECT_EQ(testing_mpi::bitwise_mismatches(ref.resin, got.resin), 0u)
+      << "resin differs from the 1-rank run";
+  EXPECT_EQ(testing_mpi::bitwise_mismatches(ref.fibers, got.fibers), 0u)
+      << "fibers differ from the 1-rank run";
   EXPECT_GT(got.ghost_fibers, 0) << "no fiber near a rank border";
   EXPECT_GT(got.repartitions, 0) << "no re-partition happened";
 }

@@ -244,6 +244,7 @@ TEST(FieldRegistry, SphAndDemRegistries) {
                                            "drag_velocity",
                                            "drag_force",
                                            "drag_impulse",
+                                           "drag_parcel_mass",
                                            "torque_coeff",
                                            "resin_spin",
                                            "hydro_torque",

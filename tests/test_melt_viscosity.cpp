@@ -220,6 +220,19 @@ TEST(ViscosityKeys, CrossWlfTemperatures) {
   EXPECT_NE(none.find("melt_temperature"), std::string::npos) << none;
 }
 
+// One Celsius rule for every temperature key (docs/case-file.md
+// "resin.thermal"): below 250 K a warning, whichever key. A D2 of 230 K was
+// silent while the viscosity keys warned only below 200 K.
+TEST(ViscosityKeys, OneCelsiusRuleForEveryTemperature) {
+  const Case d2 = load_case_from_string(base_case(wlf("230", "503.15")), "case.yaml");
+  ASSERT_EQ(d2.warnings.size(), 1u);
+  EXPECT_NE(d2.warnings[0].find("key 'resin.viscosity.d2': 230 K looks like degrees Celsius"),
+            std::string::npos)
+      << d2.warnings[0];
+  EXPECT_NE(d2.warnings[0].find("below 250 K"), std::string::npos) << d2.warnings[0];
+  EXPECT_TRUE(load_case_from_string(base_case(wlf("255", "503.15")), "case.yaml").warnings.empty());
+}
+
 // With resin.thermal the law reads each particle's own temperature (a cold
 // particle near the mold is more viscous), the melt temperature is the
 // thermal block's, and giving it twice is an error.

@@ -121,6 +121,25 @@ Key<F> bond_integration() {
   return k;
 }
 
+Key<F> drag_integration() {
+  Key<F> k{"drag_integration",
+           "enum",
+           "",
+           "explicit",
+           "explicit or exponential",
+           "coupled runs: explicit: the resin's drag a force in the fibers' sub-steps, which "
+           "then stay below the fibers' drag time and the resin's step below its own; "
+           "exponential: each fiber particle and its resin relax towards their common velocity "
+           "by the exact exponential of the two-body exchange, the resin getting the opposite "
+           "impulse, stable at any step (a viscous melt; `docs/physics.md` \"Exponential "
+           "drag\")"};
+  k.read = [](const Value& v, F& f, Context&) {
+    f.exponential_drag = one_of(v, {"explicit", "exponential"}) == "exponential";
+  };
+  k.show = [](const F& f) { return f.exponential_drag ? "exponential" : "explicit"; };
+  return k;
+}
+
 Section<F> make_fibers() {
   Section<F> s;
   s.keys = {
@@ -169,6 +188,7 @@ Section<F> make_fibers() {
              "warning above)")
           .identity(),
       bond_integration().identity(),
+      drag_integration().identity(),
       number("void_fraction_min", "", in_range(0, 1, true, true), &F::void_fraction_min,
              "the local void fraction is clipped to [void_fraction_min, 1] (coupled runs, "
              "`docs/physics.md` \"Coupling\")")

@@ -47,20 +47,10 @@ Key<T> unless_default(Key<T> k) {
   return k;
 }
 
-// A temperature in kelvin below this is most likely degrees Celsius: no
-// polymer melt or mold is processed below -23 C.
-constexpr double kCelsiusSuspect = 250.0;
-
-// A temperature key [K]: positive; a warning naming the file, line and key
-// when it looks like Celsius.
+// A temperature key [K]: positive; the Celsius warning (schema.hpp).
 double kelvin(const Value& v, Context& ctx) {
   const double t = positive(v);
-  if (t < kCelsiusSuspect) {
-    ctx.c.warnings.push_back(fmt::format(
-        "{}:{}: key '{}': {} K looks like degrees Celsius (temperatures are in kelvin: {} C is "
-        "{} K)",
-        v.source().file(), v.line(), v.key(), v.text(), v.text(), show_number(t + 273.15)));
-  }
+  warn_if_celsius(v, t, ctx);
   return t;
 }
 
@@ -108,8 +98,10 @@ Section<Thermal> make_thermal() {
   s.intro =
       "Temperature per resin particle, conducted between particles (Cleary & Monaghan\n"
       "1999) and set at the walls by their `temperature` and `heat_transfer_coefficient`\n"
-      "(docs/physics.md, \"Temperature\"). Temperatures are in kelvin; a value below\n"
-      "250 K gives a warning (it looks like degrees Celsius).\n";
+      "(docs/physics.md, \"Temperature\"). Temperatures are in kelvin; every\n"
+      "temperature key (the law's `d2` too) below 250 K gives a warning naming the\n"
+      "file, line and key (it looks like degrees Celsius; -23 degC is colder than any\n"
+      "melt, mold or no-flow temperature).\n";
   return s;
 }
 

@@ -51,22 +51,9 @@ const std::vector<std::string>& law_required(ViscosityLaw l) {
   return keys[static_cast<std::size_t>(l)];
 }
 
-// A warning that names the file, line and key, like an error but not fatal.
-void warn_at(const Value& v, Context& ctx, const std::string& message) {
-  const int line = v.line();
-  const std::string file = v.source().overridden(v.key()) ? "--set" : v.source().file();
-  ctx.c.warnings.push_back(fmt::format(
-      "{}{}: key '{}': {}", file, line > 0 ? ":" + std::to_string(line) : "", v.key(), message));
-}
-
-// A temperature below 200 K is not a melt: most likely degrees Celsius.
+// The Celsius warning of every temperature key (schema.hpp).
 void warn_celsius(const Value& v, double kelvin, Context& ctx) {
-  if (kelvin < 200.0) {
-    warn_at(v, ctx,
-            fmt::format("{} K looks like degrees Celsius: temperatures here are in kelvin "
-                        "({} degC = {} K)",
-                        v.text(), v.text(), show_number(kelvin + 273.15)));
-  }
+  warn_if_celsius(v, kelvin, ctx);
 }
 
 Key<V> model() {
@@ -161,8 +148,9 @@ Section<V> make_viscosity_law() {
           .identity(),
       number("d1", "Pa s", positive_number(), &V::d1, "D1: zero-shear viscosity at T* (cross_wlf)")
           .identity(),
-      number("d2", "K", positive_number(), &V::d2,
-             "D2: T* at zero pressure (cross_wlf; kelvin: a value below 200 gives a warning)")
+      number(
+          "d2", "K", positive_number(), &V::d2,
+          "D2: T* at zero pressure (cross_wlf; kelvin: a value below 250 gives a Celsius warning)")
           .identity(),
       number("d3", "K/Pa", non_negative_number(), &V::d3, "D3: pressure shift of T* (cross_wlf)")
           .identity(),
@@ -290,7 +278,7 @@ Key<Resin> resin_material_key() {
 Key<Resin> resin_melt_temperature_key() {
   Key<Resin> k =
       optional_number("melt_temperature", "K", positive_number(), &Resin::melt_temperature,
-                      "the melt's temperature (cross_wlf; a value below 200 gives a "
+                      "the melt's temperature (cross_wlf; a value below 250 gives a "
                       "warning: kelvin expected)");
   k.read = [](const Value& v, Resin& r, Context& ctx) {
     r.melt_temperature = positive(v);

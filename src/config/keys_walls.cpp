@@ -73,12 +73,7 @@ Key<W> wall_temperature(std::string default_text) {
                                 "temperature); a value below 250 K gives a Celsius warning");
   k.read = [](const Value& v, W& w, Context& ctx) {
     const double t = positive(v);
-    if (t < 250.0) {
-      ctx.c.warnings.push_back(fmt::format(
-          "{}:{}: key '{}': {} K looks like degrees Celsius (temperatures are in kelvin: {} C is "
-          "{} K)",
-          v.source().file(), v.line(), v.key(), v.text(), v.text(), show_number(t + 273.15)));
-    }
+    warn_if_celsius(v, t, ctx);
     w.temperature = t;
   };
   k.defaults_to(std::move(default_text));

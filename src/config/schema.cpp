@@ -78,6 +78,17 @@ std::string format_point(const Vec3a& p, int dim) {
   return s + ")";
 }
 
+void warn_if_celsius(const Value& v, double kelvin, Context& ctx) {
+  if (!(kelvin < kCelsiusSuspect)) return;
+  const int line = v.line();
+  const std::string file = v.source().overridden(v.key()) ? "--set" : v.source().file();
+  ctx.c.warnings.push_back(fmt::format(
+      "{}{}: key '{}': {} K looks like degrees Celsius (temperatures are in kelvin, below {} K "
+      "a warning: {} degC is {} K)",
+      file, line > 0 ? ":" + std::to_string(line) : "", v.key(), v.text(),
+      show_number(kCelsiusSuspect), v.text(), show_number(kelvin + 273.15)));
+}
+
 namespace {
 
 void collect_paths(const KeysDoc& doc, const std::string& prefix, std::vector<std::string>& out) {

@@ -44,6 +44,16 @@ struct Context {
   WallNames walls;
 };
 
+// One rule for every temperature key, D2 of the Cross-WLF law included
+// (docs/case-file.md): temperatures are in kelvin, and one below
+// kCelsiusSuspect (-23 degC, colder than any melt, mold, wall or no-flow
+// temperature) gets a warning naming the file, line and key, since a value
+// typed in degrees Celsius (a mold at 40, a melt at 230, a D2 of 50) mostly
+// lands there. A warning, not an error: a polyethylene's D2 (about 153 K)
+// is meant.
+inline constexpr double kCelsiusSuspect = 250.0;
+void warn_if_celsius(const Value& v, double kelvin, Context& ctx);
+
 // How a number is validated, and the same rule as text for the docs.
 struct Rule {
   enum class Kind { Any, Positive, NonNegative, Range };

@@ -71,7 +71,7 @@ double dem_volume(const DemParticles<D>& dem, std::size_t f) {
 template <int D>
 void hydrodynamic_torque(const WendlandC2<D>& kernel, const SphParticles<D>& sph,
                          const CouplingState<D>& st, const std::vector<Near>& near,
-                         DemParticles<D>& dem, std::size_t f, double dt) {
+                         DemParticles<D>& dem, std::size_t f, double dt, bool exponential) {
   const Rot<D> mean_torque = dt > 0 ? Rot<D>(dem.torque_impulse[f] / dt) : Rot<D>::Zero();
   dem.torque_impulse[f].setZero();
   dem.torque_coeff[f] = 0.0;
@@ -102,6 +102,7 @@ void hydrodynamic_torque(const WendlandC2<D>& kernel, const SphParticles<D>& sph
       dem.resin_offset[f] = offset;
     }
   }
+  if (exponential) return;  // the kicks relax the spin (drag_exchange.hpp)
   const Rot<D> torque = dem.torque_coeff[f] * (dem.resin_spin[f] - dem.omega[f]);
   dem.torque[f] += torque - dem.hydro_torque[f];
   dem.hydro_torque[f] = torque;
@@ -151,6 +152,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
           terms::solid_fraction<D>(kernel, dem_volume(dem, static_cast<std::size_t>(n.index)), n.r);
     }
     const double eps = terms::void_fraction(phi, s.drag.eps_min);
+    const int sharing = static_cast<int>(near_dem.size());  // f itself included
     terms::ShepardSum<D> shepard;
     double mu_sum = 0.0;  // sum_r V_r W_fr mu_r, a viscosity law's local viscosity
     double sum_t = 0.0;   // sum_r V_r W_fr T_r, the resin temperature's Shepard numerator
@@ -163,6 +165,17 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
       if (!sph.temperature.empty()) sum_t += vol_r * w * sph.temperature[r];
     }
     dem.resin_temperature[f] = shepard.has_resin() ? sum_t / shepard.s : 0.0;
+    if (s.exponential_drag) {
+      // sum_r w_r^2 / m_r, w_r = V_r W_fr / S_f, m_r per the DEM's depth.
+      double inverse_sum = 0.0;
+      for (const Near& n : near) {
+        const auto r = static_cast<std::size_t>(st.resin_index[static_cast<std::size_t>(n.index)]);
+        const double w =
+            shepard.has_resin() ? sph.mass[r] / sph.rho[r] * kernel.w(n.r) / shepard.s : 0.0;
+        inverse_sum += w * w / (s.thickness * sph.mass[r]);
+      }
+      dem.drag_parcel_mass[f] = drag_parcel_mass(inverse_sum, sharing);
+    }
     CouplingParams law = s.drag;
     if (s.drag.local_viscosity && shepard.has_resin()) law.mu = mu_sum / shepard.s;
     dem.void_fraction[f] = eps;
@@ -176,11 +189,14 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
     dem.drag_coeff[f] =
         shepard.has_resin() ? drag_k(law, eps, d, (vbar - dem.v[f]).norm()) * vol : 0.0;
     dem.drag_velocity[f] = vbar;
-    // The force the next first kick uses follows the new law.
-    const Vec<D> drag = dem.drag_coeff[f] * (vbar - dem.v[f]);
-    dem.force[f] += drag - dem.drag_force[f];
-    dem.drag_force[f] = drag;
-    if (s.hydrodynamic_torque) hydrodynamic_torque<D>(kernel, sph, st, near, dem, f, dt);
+    if (!s.exponential_drag) {
+      // The force the next first kick uses follows the new law.
+      const Vec<D> drag = dem.drag_coeff[f] * (vbar - dem.v[f]);
+      dem.force[f] += drag - dem.drag_force[f];
+      dem.drag_force[f] = drag;
+    }
+    if (s.hydrodynamic_torque)
+      hydrodynamic_torque<D>(kernel, sph, st, near, dem, f, dt, s.exponential_drag);
   }
 }
 
@@ -191,7 +207,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
 template <int D>
 Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
                          SphParticles<D>& sph, std::vector<double>& resin_void_fraction,
-                         double& resin_drag_rate) {
+                         double& resin_drag_rate, double impulse_dt) {
   const WendlandC2<D> kernel(s.h);
   const double support = kernel.support();
   resin_void_fraction.assign(sph.n_owned, 1.0);
@@ -256,7 +272,15 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
     if (!touched[k]) continue;
     const auto r = static_cast<std::size_t>(resin[k]);
     // 2D: the drag is per depth `thickness`, the resin's mass per metre.
-    sph.a[r] += force[k] / (s.thickness * sph.mass[r]);
+    if (impulse_dt > 0) {
+      if (!sph.frozen[r]) {
+        const Vec<D> dv = (impulse_dt / (s.thickness * sph.mass[r])) * force[k];
+        sph.v_half[r] += dv;
+        sph.v[r] += dv;
+      }
+    } else {
+      sph.a[r] += force[k] / (s.thickness * sph.mass[r]);
+    }
     total += force[k];
     resin_drag_rate = std::max(resin_drag_rate, held[k] / (s.thickness * sph.mass[r]));
     const double eps = terms::void_fraction(phi[k], s.drag.eps_min);
@@ -274,8 +298,8 @@ template void drag_on_fibers<2>(const CouplingSettings&, const SphParticles<2>&,
 template void drag_on_fibers<3>(const CouplingSettings&, const SphParticles<3>&, DemParticles<3>&,
                                 CouplingState<3>&, double);
 template Vec<2> reaction_on_resin<2>(const CouplingSettings&, const DemParticles<2>&,
-                                     SphParticles<2>&, std::vector<double>&, double&);
+                                     SphParticles<2>&, std::vector<double>&, double&, double);
 template Vec<3> reaction_on_resin<3>(const CouplingSettings&, const DemParticles<3>&,
-                                     SphParticles<3>&, std::vector<double>&, double&);
+                                     SphParticles<3>&, std::vector<double>&, double&, double);
 
 }  // namespace sphdem

@@ -11,6 +11,7 @@
 #include "dem_bond_chains.hpp"
 #include "dem_kernels.hpp"
 #include "sphdem/dem/dem_profile.hpp"
+#include "sphdem/dem/drag_exchange.hpp"
 
 namespace sphdem {
 
@@ -59,11 +60,15 @@ void compute_dem_slow_forces(const DemParams<D>& p, double dt, const std::vector
   dem_detail::DemTimer t_gather(prof.gather);
   const std::size_t n_own = ps.n_owned;
   for (std::size_t i = 0; i < n_own; ++i) {
-    ps.drag_force[i] = ps.drag_coeff[i] * (ps.drag_velocity[i] - ps.v[i]);
+    ps.drag_force[i] = p.exponential_drag
+                           ? Vec<D>::Zero()
+                           : Vec<D>(ps.drag_coeff[i] * (ps.drag_velocity[i] - ps.v[i]));
     Vec<D> f =
         ps.mass[i] * (p.gravity - p.global_damping * ps.v[i]) + ps.f_ext[i] + ps.drag_force[i];
     // The resin's torque, a slow force as the drag (dem_forces.cpp).
-    ps.hydro_torque[i] = ps.torque_coeff[i] * (ps.resin_spin[i] - ps.omega[i]);
+    ps.hydro_torque[i] = p.exponential_drag
+                             ? Rot<D>::Zero()
+                             : Rot<D>(ps.torque_coeff[i] * (ps.resin_spin[i] - ps.omega[i]));
     Rot<D> t = -p.global_damping * ps.inertia[i] * ps.omega[i] + ps.hydro_torque[i];
     gather_pairs<D>(ws, i, f, t, [](const DemPair<D>& pr) { return !bonded(pr); });
     ps.force[i] = f;
@@ -80,7 +85,8 @@ void compute_dem_slow_forces(const DemParams<D>& p, double dt, const std::vector
 
 // v += dt/m (F_bond + F_slow): the inner kicks, the slow force held.
 template <int D>
-void dem_kick_all(double dt, DemParticles<D>& ps, const DemWorkspace<D>& ws) {
+void dem_kick_all(const DemParams<D>& p, double dt, DemParticles<D>& ps,
+                  const DemWorkspace<D>& ws) {
   const dem_detail::DemTimer timer(dem_detail::dem_profile().kick_drift);
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.fixed[i] & kFixedMotion) continue;
@@ -88,6 +94,7 @@ void dem_kick_all(double dt, DemParticles<D>& ps, const DemWorkspace<D>& ws) {
     ps.omega[i] += (dt / ps.inertia[i]) * (ws.bond_torque[i] + ps.torque[i]);
     ps.drag_impulse[i] += dt * ps.drag_force[i];
     ps.torque_impulse[i] += dt * ps.hydro_torque[i];
+    if (p.exponential_drag) relax_drag<D>(ps, i, dt);
   }
 }
 
@@ -149,11 +156,11 @@ void dem_subcycled_step(const DemParams<D>& p, double dt, std::int64_t inner,
   compute_dem_bond_forces(p, 0.0, ps, ws);
   const double h = dt / static_cast<double>(inner);
   for (std::int64_t k = 0; k < inner; ++k) {
-    dem_kick_all(0.5 * h, ps, ws);
+    dem_kick_all(p, 0.5 * h, ps, ws);
     dem_drift(h, walls, ps);
     refresh_ghosts();
     compute_dem_bond_forces(p, h, ps, ws);
-    dem_kick_all(0.5 * h, ps, ws);
+    dem_kick_all(p, 0.5 * h, ps, ws);
   }
   settle();  // may migrate: the held forces travel in force, torque, drag_force
   finish_outer_step(p, dt, walls, ps, ws);
@@ -175,7 +182,7 @@ void dem_implicit_step(const DemParams<D>& p, double dt, std::vector<DemWall<D>>
                        const std::function<void()>& settle) {
   if (!ws.forces_valid) compute_dem_slow_forces(p, 0.0, walls, ps, ws);
   compute_dem_bond_forces(p, 0.0, ps, ws);  // as dem_subcycled_step: restarts bitwise
-  dem_kick_all(0.5 * dt, ps, ws);
+  dem_kick_all(p, 0.5 * dt, ps, ws);
   refresh_ghosts();  // the chains' half-step velocities
   if (!ws.chains_valid) dem_detail::build_bond_chains(ps, ws);
   dem_detail::solve_bond_chains(p, dt, ps, ws);
@@ -183,7 +190,7 @@ void dem_implicit_step(const DemParams<D>& p, double dt, std::vector<DemWall<D>>
   refresh_ghosts();
   compute_dem_bond_forces(p, dt, ps, ws);  // the bond law over the drift dt u
   dem_detail::restore_half_velocities(ps, ws);
-  dem_kick_all(0.5 * dt, ps, ws);
+  dem_kick_all(p, 0.5 * dt, ps, ws);
   settle();
   finish_outer_step(p, dt, walls, ps, ws);
 }

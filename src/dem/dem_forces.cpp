@@ -13,6 +13,7 @@
 
 #include "dem_kernels.hpp"
 #include "sphdem/dem/dem_profile.hpp"
+#include "sphdem/dem/drag_exchange.hpp"
 
 namespace sphdem {
 
@@ -29,11 +30,16 @@ void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemW
     // The resin's drag, linear in the particle's own velocity with the
     // coefficient and resin velocity of the last coupling pass (so it stays
     // stable however many sub-steps the SPH step holds).
-    ps.drag_force[i] = ps.drag_coeff[i] * (ps.drag_velocity[i] - ps.v[i]);
+    // (Exponential drag: no force, the kicks relax v instead; drag_exchange.hpp.)
+    ps.drag_force[i] = p.exponential_drag
+                           ? Vec<D>::Zero()
+                           : Vec<D>(ps.drag_coeff[i] * (ps.drag_velocity[i] - ps.v[i]));
     Vec<D> f =
         ps.mass[i] * (p.gravity - p.global_damping * ps.v[i]) + ps.f_ext[i] + ps.drag_force[i];
     // The resin's torque, linear in the spin the same way (coupling_loops.hpp).
-    ps.hydro_torque[i] = ps.torque_coeff[i] * (ps.resin_spin[i] - ps.omega[i]);
+    ps.hydro_torque[i] = p.exponential_drag
+                             ? Rot<D>::Zero()
+                             : Rot<D>(ps.torque_coeff[i] * (ps.resin_spin[i] - ps.omega[i]));
     Rot<D> t = -p.global_damping * ps.inertia[i] * ps.omega[i] + ps.hydro_torque[i];
     gather_pairs<D>(ws, i, f, t, [](const DemPair<D>&) { return true; });
     ps.force[i] = f;
@@ -49,7 +55,8 @@ void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemW
 }
 
 template <int D>
-void dem_kick_drift(double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps) {
+void dem_kick_drift(const DemParams<D>& p, double dt, std::vector<DemWall<D>>& walls,
+                    DemParticles<D>& ps) {
   const dem_detail::DemTimer timer(dem_detail::dem_profile().kick_drift);
   const double half = 0.5 * dt;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
@@ -58,6 +65,7 @@ void dem_kick_drift(double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& 
       ps.omega[i] += (half / ps.inertia[i]) * ps.torque[i];
       ps.drag_impulse[i] += half * ps.drag_force[i];  // what the resin must get back
       ps.torque_impulse[i] += half * ps.hydro_torque[i];
+      if (p.exponential_drag) relax_drag<D>(ps, i, half);
     }
     ps.x[i] += dt * ps.v[i];
   }
@@ -81,6 +89,7 @@ void dem_force_kick(const DemParams<D>& p, double dt, const std::vector<DemWall<
     ps.omega[i] += (half / ps.inertia[i]) * ps.torque[i];
     ps.drag_impulse[i] += half * ps.drag_force[i];
     ps.torque_impulse[i] += half * ps.hydro_torque[i];
+    if (p.exponential_drag) relax_drag<D>(ps, i, half);
   }
 }
 
@@ -89,7 +98,7 @@ void dem_step(const DemParams<D>& p, double dt, std::vector<DemWall<D>>& walls, 
               DemWorkspace<D>& ws) {
   if (!ws.pairs_valid) dem_build_pairs(p, walls, ps, ws);
   if (!ws.forces_valid) compute_dem_forces(p, 0.0, walls, ps, ws);
-  dem_kick_drift(dt, walls, ps);
+  dem_kick_drift(p, dt, walls, ps);
   if (dem_max_displacement2(ps, walls, ws) > 0.25 * ws.skin * ws.skin) {
     dem_store_pair_state(ps, ws);
     dem_build_pairs(p, walls, ps, ws);
@@ -102,7 +111,8 @@ void dem_step(const DemParams<D>& p, double dt, std::vector<DemWall<D>>& walls, 
                                       DemParticles<D>&, DemWorkspace<D>&);                         \
   template void dem_step<D>(const DemParams<D>&, double, std::vector<DemWall<D>>&,                 \
                             DemParticles<D>&, DemWorkspace<D>&);                                   \
-  template void dem_kick_drift<D>(double, std::vector<DemWall<D>>&, DemParticles<D>&);             \
+  template void dem_kick_drift<D>(const DemParams<D>&, double, std::vector<DemWall<D>>&,           \
+                                  DemParticles<D>&);                                               \
   template void dem_force_kick<D>(const DemParams<D>&, double, const std::vector<DemWall<D>>&,     \
                                   DemParticles<D>&, DemWorkspace<D>&);
 SPHDEM_DEM_INSTANTIATE(2)

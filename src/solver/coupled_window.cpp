@@ -50,14 +50,22 @@ CoupledWindow coupled_window(const Case& c, const Simulation<D>& sim, double res
 void print_coupled_window(const CoupledWindow& w, const Case& c, std::ostream& out) {
   const FiberSettings& f = *c.fibers;
   out << "  coupled window (docs/physics.md \"The stable window\"):\n";
-  if (w.fiber_drag_time > 0) {
+  if (f.exponential_drag) {
+    // No limit from the drag (docs/physics.md "Exponential drag").
+    out << fmt::format(
+        "    fibers.drag_integration: exponential: fiber drag time {:.3g} s, resin drag time "
+        "{:.3g} s, neither limits a step; DEM sub-step {:.3g} s (the fibers' own), resin step "
+        "{:.3g} s ({:.3g} fiber drag times)\n",
+        w.fiber_drag_time, w.resin_drag_time, w.dem_dt, w.resin_dt,
+        w.fiber_drag_time > 0 ? w.resin_dt / w.fiber_drag_time : 0.0);
+  } else if (w.fiber_drag_time > 0) {
     const double sub = std::min(w.dem_dt, kFiberDragStep * w.fiber_drag_time);
     out << fmt::format(
         "    fiber drag time m_f/(K V_f) {:.3g} s; DEM sub-step {:.3g} s ({}, explicit drag "
         "stable below 2 drag times)\n",
         w.fiber_drag_time, sub, sub < w.dem_dt ? "limited by the drag time" : "the fibers' own");
   }
-  if (w.resin_drag_time > 0) {
+  if (w.resin_drag_time > 0 && !f.exponential_drag) {
     const double dt = std::min(w.resin_dt, kResinDragStep * w.resin_drag_time);
     out << fmt::format(
         "    resin drag time m_r/sum_f (V_r W_fr/S_f) K_f V_f {:.3g} s; resin step {:.3g} s\n",

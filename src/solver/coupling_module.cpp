@@ -23,6 +23,7 @@ CouplingModule<D>::CouplingModule(const RunContext<D>& ctx, ResinModule<D>& resi
   coupling_.thickness = fibers.dem().params().thickness;
   coupling_.void_fraction_in_continuity = c.fibers->void_fraction_in_continuity;
   coupling_.hydrodynamic_torque = c.fibers->hydrodynamic_torque;
+  coupling_.exponential_drag = c.fibers->exponential_drag;
 }
 
 // Drag on the fibers, then its reaction on the resin (coupling_loops.hpp);
@@ -36,7 +37,9 @@ void CouplingModule<D>::rates() {
   drag_on_fibers<D>(coupling_, ps, dem, cstate_, fibers_.coupled_dt());
   domain.forward(DemGroup::Coupling);
   double rate = 0;
-  const Vec<D> reaction = reaction_on_resin<D>(coupling_, dem, ps, resin_eps_, rate);
+  const Vec<D> reaction =
+      reaction_on_resin<D>(coupling_, dem, ps, resin_eps_, rate,
+                           coupling_.exponential_drag ? fibers_.coupled_dt() : 0.0);
   resin_drag_rate_ = ctx_.comm.max(rate);
   double drag_time = std::numeric_limits<double>::infinity();
   for (std::size_t f = 0; f < dem.n_owned; ++f) {
@@ -47,7 +50,8 @@ void CouplingModule<D>::rates() {
   }
   drag_time = ctx_.comm.min(drag_time);
   fiber_drag_time_ = std::isfinite(drag_time) ? drag_time : 0.0;
-  fibers_.limit_substep(fiber_drag_time_);
+  // Exponential drag is stable at any sub-step and resin step.
+  fibers_.limit_substep(coupling_.exponential_drag ? 0.0 : fiber_drag_time_);
   // Diagnostics: total drag + total reaction, which must vanish.
   std::vector<double> sums(2 * D + 1, 0.0);
   for (std::size_t f = 0; f < dem.n_owned; ++f) {
@@ -65,7 +69,7 @@ void CouplingModule<D>::rates() {
 
 template <int D>
 std::optional<TimeStep> CouplingModule<D>::stable_dt() {
-  if (!(resin_drag_rate_ > 0)) return std::nullopt;
+  if (!(resin_drag_rate_ > 0) || coupling_.exponential_drag) return std::nullopt;
   return TimeStep{kResinDragStep / resin_drag_rate_, DtLimit::Drag};
 }
 
@@ -85,7 +89,7 @@ std::function<void()> CouplingModule<D>::read_checkpoint(CheckpointReader& r,
   return [this, rate, drag_time] {
     resin_drag_rate_ = rate;
     fiber_drag_time_ = drag_time;
-    fibers_.limit_substep(drag_time);
+    fibers_.limit_substep(coupling_.exponential_drag ? 0.0 : drag_time);
   };
 }
 

@@ -104,7 +104,7 @@ void DemDomain<D>::advance(std::int64_t n, double dt) {
   if (!ws_.forces_valid) dem_force_kick(params_, 0.0, walls_, ps_, ws_);
   const double limit2 = 0.25 * ws_.skin * ws_.skin;
   for (std::int64_t s = 0; s < n; ++s) {
-    dem_kick_drift(dt, walls_, ps_);
+    dem_kick_drift(params_, dt, walls_, ps_);
     // One small collective per sub-step: every rank rebuilds at the same
     // sub-step, whatever the rank count.
     dem_detail::DemTimer t_collective(dem_detail::dem_profile().collective);

@@ -35,6 +35,7 @@ DemParams<D> dem_params(const Case& c) {
   p.dt_safety = f.dt_safety;
   p.subcycle_bonds = f.subcycle_bonds;
   p.implicit_bonds = f.implicit_bonds;
+  p.exponential_drag = f.exponential_drag;
   p.chain_reach = implicit_chain_reach(c);
   p.gravity = to_vec<D>(c.body_force);
   p.kn = contact_stiffness_from_bond(p, 0.5 * f.diameter, f.contact_stiffness_fraction);

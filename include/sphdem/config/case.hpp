@@ -247,8 +247,9 @@ struct FiberSettings {
   std::optional<double> angle;  // orientation [rad] from +x; none: random
   std::uint64_t seed = 1;
   double dt_safety = 0.2;
-  bool subcycle_bonds = false;  // bond_integration: subcycled or implicit (docs/dem.md)
-  bool implicit_bonds = false;  // bond_integration: implicit
+  bool subcycle_bonds = false;    // bond_integration: subcycled or implicit (docs/dem.md)
+  bool implicit_bonds = false;    // bond_integration: implicit
+  bool exponential_drag = false;  // drag_integration: exponential (docs/physics.md)
   // Coupling with the resin (docs/physics.md "Coupling").
   double void_fraction_min = 0.4;           // clip of the local void fraction
   bool void_fraction_in_continuity = true;  // the "local averaging" continuity form

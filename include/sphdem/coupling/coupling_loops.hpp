@@ -24,6 +24,7 @@
 // Every sum runs over neighbours in increasing global id, so results are
 // bitwise the same on any number of ranks; the reactions of one DEM
 // particle sum to -F_d exactly up to round-off.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -40,7 +41,23 @@ struct CouplingSettings {
   double thickness = 1.0;                   // 2D depth of the DEM particles [m]
   bool void_fraction_in_continuity = true;  // the "local averaging" continuity form
   bool hydrodynamic_torque = true;          // the resin's torque on the fibers and its reaction
+  // fibers.drag_integration: exponential: the sub-steps relax each fiber
+  // particle with its resin parcel (drag_exchange.hpp); drag_on_fibers sets
+  // the parcel's mass and no drag force or torque.
+  bool exponential_drag = false;
 };
+
+// The resin mass a fiber particle exchanges momentum with under
+// exponential drag [kg] (docs/physics.md "Exponential drag"). An impulse J
+// spread over the resin as w_r J (w_r = V_r W_fr / S_f) moves the Shepard
+// velocity by J sum_r w_r^2 / m_r: the parcel's mass is 1 / sum_r w_r^2 / m_r
+// (`inverse_sum`). Other fiber particles within the kernel pull on the same
+// resin: the mass is shared among the `sharing` DEM particles there, and
+// halved, since an exchange is stable only while the parcel's mass is not
+// overestimated (the resin receives the impulse a step late).
+inline double drag_parcel_mass(double inverse_sum, int sharing) {
+  return inverse_sum > 0 ? 0.5 / (inverse_sum * std::max(sharing, 1)) : 0.0;
+}
 
 // Scratch of drag_on_fibers, kept between passes to spare allocations. The
 // pass's results per DEM particle are fields of DemParticles
@@ -63,9 +80,15 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
 // reaction relaxes a resin particle's velocity towards the fibers' (the
 // resin side of the exchange is explicit: docs/physics.md "The stable
 // window").
+// impulse_dt > 0 (exponential drag): the reaction is not an acceleration
+// but the impulse F_mean impulse_dt itself, added to the half-step velocity
+// v_half that the second kick starts from (and to v): the resin gets the
+// fibers' impulse in the step it was exchanged, not through its leapfrog a
+// step late; frozen resin keeps its rest (the impulse goes to the mold, as
+// at a wall).
 template <int D>
 Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
                          SphParticles<D>& sph, std::vector<double>& resin_void_fraction,
-                         double& resin_drag_rate);
+                         double& resin_drag_rate, double impulse_dt = 0.0);
 
 }  // namespace sphdem

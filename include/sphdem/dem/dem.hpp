@@ -46,6 +46,10 @@ struct DemParams {
   // every rank holding a fiber's particle holds the whole fiber).
   bool implicit_bonds = false;
   double chain_reach = 0;
+  // Exponential drag (docs/physics.md "Exponential drag"): the resin's drag
+  // and torque are no forces; each kick relaxes v towards drag_velocity
+  // (and omega towards resin_spin) by the exact exponential instead.
+  bool exponential_drag = false;
 };
 
 // The contact stiffness of docs/dem.md: a fraction of the bond's axial
@@ -181,7 +185,8 @@ double dem_max_displacement2(const DemParticles<D>& ps, const std::vector<DemWal
 // kick(dt/2) + drift(dt) of the owned particles and the walls, then (after
 // the ghosts' state is refreshed) forces at the new positions + kick(dt/2).
 template <int D>
-void dem_kick_drift(double dt, std::vector<DemWall<D>>& walls, DemParticles<D>& ps);
+void dem_kick_drift(const DemParams<D>& p, double dt, std::vector<DemWall<D>>& walls,
+                    DemParticles<D>& ps);
 template <int D>
 void dem_force_kick(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
                     DemParticles<D>& ps, DemWorkspace<D>& ws);

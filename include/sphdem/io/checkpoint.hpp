@@ -36,7 +36,8 @@ namespace sphdem {
 // 3: the resin's viscosity column (a viscosity law's time step reads it).
 // 4: the fibers' hydrodynamic torque state (torque_coeff, resin_spin, ...).
 // 5: the resin's weld_line flag (output.front_events).
-inline constexpr int kCheckpointFormat = 5;
+// 6: the fibers' drag_parcel_mass (fibers.drag_integration: exponential).
+inline constexpr int kCheckpointFormat = 6;
 
 enum class ColumnType : int { F64 = 0, I64 = 1, I32 = 2, U8 = 3, Bytes = 4 };
 

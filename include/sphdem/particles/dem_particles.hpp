@@ -159,6 +159,9 @@ enum class DemGroup : std::uint8_t { State = 0, Coupling = 1 };
   X(Vec<D>, drag_velocity, kMigrate | kCheckpoint)                                               \
   X(Vec<D>, drag_force, kMigrate | kCheckpoint) /* of the last force evaluation [N] */           \
   X(Vec<D>, drag_impulse, kMigrate | kCheckpoint)                                                \
+  /* Exponential drag: the resin mass the particle exchanges with [kg] */                        \
+  /* (2D: per depth); drag_velocity then moves by -impulse / this. */                            \
+  X(double, drag_parcel_mass, kMigrate | kCheckpoint)                                            \
   /* The resin's hydrodynamic torque (docs/physics.md "Hydrodynamic torque"): */                 \
   /* T = torque_coeff (resin_spin - omega), the rotational friction [N m s] and */               \
   /* half the resin's vorticity at x_f [rad/s] held from the last coupling */                    \
