@@ -242,6 +242,9 @@ PlateState run_plate(const Comm& comm, const std::string& out, bool write) {
     resin = comm.max(resin);
     s.gap = std::max(s.gap, (piston - resin - dp) / dp);
   }
+  // At end_time run() only writes the last snapshot and the events so far
+  // (output.front_events) to <case>_front_events.csv.
+  if (write) sim.run();
   std::vector<Row> mine;
   const SphParticles<2>& ps = sim.particles();
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
