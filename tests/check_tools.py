@@ -36,7 +36,7 @@ import accum  # noqa: E402
 MM = 1e-3
 ALL_TOOLS = ["plot_flow.py", "bond_stress.py", "fiber_orientation.py", "fiber_counts.py",
              "velocity_profile.py", "plot_snapshot.py", "plate_timeline.py", "accum.py",
-             "report.py", "render.py", "plot_scaling.py"]
+             "report.py", "render.py", "plot_scaling.py", "front_report.py"]
 
 UNITS = {"position": "m", "velocity": "m/s", "density": "kg/m^3", "pressure": "Pa", "id": "1",
          "radius": "m", "fiber": "1", "angular_velocity": "rad/s", "nodes": "1",
@@ -575,6 +575,41 @@ class ToolTest(unittest.TestCase):
         r = run_tool("accum.py", self.fib, "--cell", "4 parsecs")
         self.assertEqual(r.returncode, 1)
         self.assertIn("bad length", r.stderr)
+
+    # --- front_report.py: the piston gap and the front events -----------------
+
+    def test_front_report(self):
+        # A 10 x 10 mm resin block at 1 mm spacing under a piston row, fixed
+        # side walls. 0 s: resting on the piston; 0.01 s: both moved 2 mm
+        # down; 0.02 s: the piston 4 mm, the resin 7 mm: a gap of 3 spacings.
+        run = os.path.join(self.dir, "piston")
+        os.makedirs(run)
+        resin = lattice(0.0, 10 * MM, 0.0, 10 * MM, dp=MM)
+        piston = np.array([[(i + 0.5) * MM, 10.5 * MM] for i in range(10)])
+        sides = np.array([[-0.5 * MM, (j + 0.5) * MM] for j in range(12)]
+                         + [[10.5 * MM, (j + 0.5) * MM] for j in range(12)])
+        for k, (t, dp, dr) in enumerate([(0.0, 0.0, 0.0), (0.01, 2.0, 2.0), (0.02, 4.0, 7.0)]):
+            walls = np.vstack([piston - [0, dp * MM], sides])
+            write_snapshot(run, "piston", k, t, fluid=(resin - [0, dr * MM], np.zeros_like(resin)),
+                           wall=walls)
+        with open(os.path.join(run, "piston_front_events.csv"), "w") as f:
+            f.write("time_s,kind,x_m,y_m,z_m,id,size\n"
+                    "0.005,weld_line,0.001,0.002,0,7,0\n"
+                    "0.015,weld_line,0.002,-0.001,0,8,0\n"
+                    "0.018,trapped_air,0.003,-0.002,0,1,2e-06\n")
+        table, png = self.out("gap.csv"), self.out("front.png")
+        r = run_tool("front_report.py", run, "--spacing", 1e-3, "--csv", table, "--png", png)
+        self.assert_ok(r)
+        rows = read_csv(table)
+        self.assertEqual([float(d["time_s"]) for d in rows], [0.01, 0.02])
+        self.assertAlmostEqual(float(rows[0]["gap_spacings"]), 0.0, places=9)
+        self.assertAlmostEqual(float(rows[1]["gap_spacings"]), 3.0, places=9)
+        self.assertAlmostEqual(float(rows[1]["piston_travel_m"]), 4 * MM, places=12)
+        self.assertIn("largest gap: 3.00 spacings", r.stdout)
+        self.assertIn("weld_line: 2 rows, 1 above y = 0 (bath, nozzle, gate), 1 in the cavity", r.stdout)
+        self.assertIn("trapped_air: 1 rows", r.stdout)
+        self.assertIn("2 mm^2", r.stdout)
+        self.assertTrue(os.path.getsize(png) > 1000)
 
     # --- every tool: --help and errors ---------------------------------------
 

@@ -1,6 +1,6 @@
 // A stable free surface (issue 18 part 2, docs/physics.md "Free surface",
-// "Particle shifting", "Ambient pressure", "Jet impacts"; docs/validation.md
-// "Dam break").
+// "Particle shifting", "Jet impacts"; docs/validation.md "Dam break"). The
+// ambient pressure: tests/test_ambient_pressure.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -145,34 +145,6 @@ TEST(ParticleShifting, KeepsTheTaylorGreenVortexFromClumping) {
   EXPECT_GT(off.rho_rise, 0.03);
   EXPECT_LT(on.rho_rise, 0.015);
   EXPECT_GT(on.amplitude, off.amplitude + 0.1);
-}
-
-// --- ambient pressure --------------------------------------------------------------
-
-TEST(AmbientPressure, ShiftsTheEquationOfStateAndItsInverse) {
-  const TaitEos gauge(1000, 10), amb(1000, 10, 7.0, 2000);
-  EXPECT_EQ(amb.pressure(1000), 2000.0);
-  EXPECT_EQ(amb.pressure(1003), gauge.pressure(1003) + 2000.0);
-  EXPECT_NEAR(amb.density(gauge.pressure(1003) + 2000.0), 1003, 1e-9);
-}
-
-// A column at rest with an ambient pressure: after a step every resin and
-// wall pressure is the gauge run's plus Pa, to 1e-5 Pa.
-TEST(AmbientPressure, AddsToEveryPressureOfAColumnAtRest) {
-  const std::vector<std::string> sets{"numerics.particle_shifting=false"};
-  std::vector<std::string> with = sets;
-  with.push_back("resin.ambient_pressure=3000");
-  Simulation<2> a(testing::load_input("validation/dam_break_front.yaml", sets), comm(), quiet());
-  Simulation<2> b(testing::load_input("validation/dam_break_front.yaml", with), comm(), quiet());
-  a.advance(1);
-  b.advance(1);
-  const SphParticles<2>&pa = a.particles(), &pb = b.particles();
-  ASSERT_EQ(pa.n_owned, pb.n_owned);
-  double worst = 0;
-  for (std::size_t i = 0; i < pa.n_owned; ++i)
-    worst = std::max(worst, std::abs(pb.p[i] - pa.p[i] - 3000.0));
-  // The surface particles feel Pa's inward push (docs/physics.md): 1e-5 Pa after one step.
-  EXPECT_LT(worst, 1e-5 * 3000.0);
 }
 
 // --- jet impact ----------------------------------------------------------------------

@@ -129,9 +129,10 @@ Section<Resin> make_resin() {
       number("gamma", "", positive_number(), &Resin::gamma, "Tait exponent").identity(),
       unless_default(number("ambient_pressure", "Pa", non_negative_number(),
                             &Resin::ambient_pressure,
-                            "air pressure added to the Tait pressure, so that a free surface or a "
-                            "decelerating piston does not pull the resin into tension; see "
-                            "`docs/physics.md`")
+                            "the air's pressure at the free surface (101325 for the atmosphere): "
+                            "pressures stay gauge, and a wall holds the resin down to absolute "
+                            "zero (gauge -Pa), so a decelerating piston keeps its resin; see "
+                            "`docs/physics.md` \"Ambient pressure\"")
                          .identity()),
       unless_default(number("surface_tension", "N/m", non_negative_number(),
                             &Resin::surface_tension,

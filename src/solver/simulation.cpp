@@ -31,8 +31,7 @@ ResinModule<D>::ResinModule(const RunContext<D>& ctx)
       timers_(ctx.timers),
       walls_(ctx.walls),
       sp_(make_sph_params(case_)),
-      eos_(case_.resin.density, case_.resin.sound_speed, case_.resin.gamma,
-           case_.resin.ambient_pressure),
+      eos_(case_.resin.density, case_.resin.sound_speed, case_.resin.gamma),
       domain_(simulation_domain<D>(case_)),
       nl_(2.0 * case_.h(), case_.numerics.neighbor_skin * 2.0 * case_.h()),
       // Cells at least a fiber long with implicit bonds (fiber_module.hpp).

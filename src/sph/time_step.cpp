@@ -37,6 +37,7 @@ SphParams make_sph_params(const Case& c) {
   sp.body_force = c.body_force;
   sp.mold_wall = resolve_wall_slip(c.mold, c.mold);
   sp.surface_tension = c.resin.surface_tension;
+  sp.ambient_pressure = c.resin.ambient_pressure;
   // A wall's own contact_angle, else the mold's, else 90 degrees.
   const auto angle = [&](const WallConditionKeys& w) {
     return w.contact_angle.value_or(c.mold.contact_angle.value_or(90.0));

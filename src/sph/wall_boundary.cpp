@@ -8,9 +8,11 @@
 // Slip walls (docs/physics.md "Wall conditions") keep the normal part of the
 // no-slip velocity (the wall stays impermeable) and change the tangential
 // part, see dummy_velocity below.
-// A wall particle with no resin neighbor gets P = Pa (the ambient pressure,
-// 0 by default), rho = rho0 and its own velocity. Wall pressures are clipped
-// at the wall's floor: Pa, or Pa minus a moving wall's adhesion_pressure.
+// A wall particle with no resin neighbor gets P = 0 (gauge: the ambient
+// pressure), rho = rho0 and its own velocity. Wall pressures are clipped
+// at the wall's floor: -Pa (absolute zero: the wall holds the resin until it
+// would cavitate, Pa = resin.ambient_pressure, 0 by default), less a moving
+// wall's adhesion_pressure.
 // The resin sees the wall through these values in the rate loop.
 #include <algorithm>
 
@@ -86,18 +88,19 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
         ps.temperature[w] = heat.temperature;
     }
     if (sum_w <= 0.0) {
-      ps.p[w] = eos.ambient();
+      ps.p[w] = 0.0;
       ps.rho[w] = eos.rho0();
       ps.vwall[w] = ps.v[w];
       continue;
     }
     const Vec<D> a_w = listed ? walls[static_cast<std::size_t>(k)].accel : Vec<D>::Zero();
-    // A wall pushes but does not pull (floor 0): resin may leave it, the gap
-    // filling with air at ambient (gauge 0) pressure. A moving wall may hold
-    // the resin up to its adhesion pressure (floor = -adhesion_pressure).
-    // Both floors are relative to the ambient pressure (resin.ambient_pressure).
+    // A wall pulls the resin at most down to absolute zero, gauge -Pa: the
+    // air pushes on the resin's free surface with Pa and nothing pushes back
+    // in a gap at the wall until the resin cavitates (Pa = 0, the default: a
+    // wall pushes but does not pull). A moving wall may hold the resin
+    // further, by its adhesion pressure (pressure_floor = -adhesion_pressure).
     const double floor =
-        eos.ambient() + (listed ? walls[static_cast<std::size_t>(k)].pressure_floor : 0.0);
+        (listed ? walls[static_cast<std::size_t>(k)].pressure_floor : 0.0) - sp.ambient_pressure;
     const double p = std::max(floor, (sum_p + (g - a_w).dot(sum_rho_r)) / sum_w);
     ps.p[w] = p;
     ps.rho[w] = eos.density(p);

@@ -66,7 +66,7 @@ struct Resin {
   std::optional<double> melt_temperature;  // [K], cross_wlf (until the thermal field)
   double sound_speed = 0;                  // c0 [m/s], given or from mach * reference_velocity
   double gamma = 7.0;                      // Tait exponent
-  double ambient_pressure = 0;             // [Pa] added to the Tait pressure (docs/physics.md)
+  double ambient_pressure = 0;             // [Pa] the air at the free surface (docs/physics.md)
   double surface_tension = 0;      // sigma [N/m], 0 = none (docs/physics.md "Surface tension")
   std::optional<Thermal> thermal;  // none: isothermal (docs/physics.md "Temperature")
 };

@@ -21,6 +21,10 @@ struct SphParams {
   double h = 0;
   double spacing = 0;
   double rho0 = 0, c0 = 0, gamma = 7;
+  // The air's pressure Pa [Pa]: pressures are gauge (relative to it); it
+  // lowers the wall floors to absolute zero (docs/physics.md "Ambient
+  // pressure").
+  double ambient_pressure = 0;
   double mu = 0;  // laminar viscosity (0: none); a law: the largest it reaches
   // A generalized-Newtonian law (variable viscosity, per particle): the
   // law, and the melt temperature it reads until the resin has its own
