@@ -265,7 +265,7 @@ TEST(RankIndependence, Droplet2D) {
 // in the normal and curvature passes, read on wall ghosts.
 TEST(RankIndependence, DropletOnWall) {
   expect_rank_independent<2>(load("validation/droplet_wall_2d.yaml", {"mold.contact_angle=60"}),
-                             300, /*expect_migration=*/false);
+                             200, /*expect_migration=*/false);
 }
 
 // The jet impact (issue 18 part 2): the block hits the wall at 2.5 m/s
