@@ -11,6 +11,7 @@
 // (RankIndependence.Droplet2D).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -139,6 +140,61 @@ TEST(Droplet, Mode2Period2D) {
       crossings[0], crossings[1], lamb, crossings[1] / lamb);
   EXPECT_NEAR(crossings[1] / lamb, 1.0, 0.10);
   EXPECT_NEAR(crossings[0] / (0.5 * lamb), 1.0, 0.10);
+}
+
+// --- the contact angle -----------------------------------------------------------
+
+// A 2D sessile droplet's contact angle, measured as a circular cap: its
+// height H above the floor (y = 0, the wall surface) and its base
+// half-width a give tan(theta / 2) = H / a. H is the top particle's height
+// plus half a spacing (the surface lies half a spacing beyond the outer
+// particles); a is half the span of the row on the floor (y < dp) plus half
+// a spacing.
+struct CapShape {
+  double height, half_base, angle_deg;
+};
+CapShape cap_shape(const SphParticles<2>& ps, double dp) {
+  double top = 0, lo = 1e300, hi = -1e300;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    top = std::max(top, ps.x[i][1]);
+    if (ps.x[i][1] < dp) {
+      lo = std::min(lo, ps.x[i][0]);
+      hi = std::max(hi, ps.x[i][0]);
+    }
+  }
+  const double h = top + 0.5 * dp, a = 0.5 * (hi - lo) + 0.5 * dp;
+  return {h, a, 2.0 * std::atan2(h, a) * 180.0 / kPi};
+}
+
+// inputs/validation/droplet_wall_2d.yaml (a half disc on the floor, no
+// gravity) with the floor's contact angle theta, run to t.
+CapShape cap_at(double theta_deg, double t) {
+  const Case c = testing::load_input("validation/droplet_wall_2d.yaml",
+                                     {"mold.contact_angle=" + std::to_string(theta_deg)});
+  Simulation<2> sim(c, comm(), quiet());
+  testing::run_until(sim, t);
+  const CapShape cap = cap_shape(sim.particles(), c.numerics.spacing);
+  std::printf(
+      "[          ] contact angle %.0f, t = %.3f s: H = %.4g m, a = %.4g m, cap angle %.2f "
+      "degrees\n",
+      theta_deg, t, cap.height, cap.half_base, cap.angle_deg);
+  return cap;
+}
+
+// Issue 18: a droplet on a wall takes the wall's contact angle within 5
+// degrees. Measured at 10 ms, before the break-up at the contact line that
+// stops a longer run (docs/physics.md "Surface tension", the open defect):
+// on the neutral wall (90 degrees, the half disc's own angle) the cap holds
+// 87.6-88.5 degrees over 5-20 ms; at 60 degrees the half disc spreads to
+// 59-61 degrees by 5-15 ms and breaks up near 17 ms; at 120 it breaks up
+// within 5 ms (not tested).
+TEST(Droplet, ContactAngle90OnTheNeutralWall) {
+  EXPECT_NEAR(cap_at(90.0, 0.01).angle_deg, 90.0, 5.0);
+}
+
+TEST(Droplet, ContactAngle60SpreadsToIt) {
+  EXPECT_NEAR(cap_at(60.0, 0.01).angle_deg, 60.0, 5.0);
 }
 
 // A 3D droplet as fill boxes, one per lattice row of nodes within the

@@ -149,28 +149,20 @@ TEST(ParticleShifting, KeepsTheTaylorGreenVortexFromClumping) {
 
 // --- jet impact ----------------------------------------------------------------------
 
-// A block of resin 10 x 10 mm fired at the left wall of a closed box
-// (c0 = 10 m/s), without gravity: no resin particle may cross the wall
-// surface at x = 0, and the density stays positive.
-constexpr const char* kJet = R"(dimension: 2
-resin: {density: 1000, viscosity: 1.0e-3, sound_speed: 10}
-numerics: {spacing: 1.0e-3, end_time: 0.02, delta_sph: 0.1}
-mold:
-  wall_layers: 3
-  shapes: [{box: {min: [0, 0], max: [0.05, 0.03]}}]
-fill: [{box: {min: [0.02, 0.01], max: [0.03, 0.02]}}]
-)";
-
+// inputs/validation/jet_impact.yaml: a block of resin 10 x 10 mm fired at
+// the left wall of a closed box (c0 = 10 m/s), without gravity: no resin
+// particle may cross the wall surface at x = 0, and the density stays
+// positive.
 struct JetResult {
   double min_x = 1e9, min_rho = 1e9;
   bool blew_up = false;
 };
 
 JetResult fire_jet(bool repulsion, double v) {
-  const Case c = load_case_from_string(
-      kJet, "jet.yaml",
-      {std::string("numerics.wall_repulsion=") + (repulsion ? "true" : "false"),
-       "initial_velocity=[" + std::to_string(-v) + ", 0]"});
+  const Case c =
+      testing::load_input("validation/jet_impact.yaml",
+                          {std::string("numerics.wall_repulsion=") + (repulsion ? "true" : "false"),
+                           "initial_velocity=[" + std::to_string(-v) + ", 0]"});
   Simulation<2> sim(c, comm(), quiet());
   JetResult r;
   try {

@@ -262,6 +262,28 @@ TEST(RankIndependence, Droplet2D) {
       /*expect_migration=*/false);
 }
 
+// A sessile droplet (issue 18 part 3): the contact angle's wall normals
+// in the normal and curvature passes, read on wall ghosts.
+TEST(RankIndependence, DropletOnWall) {
+  expect_rank_independent<2>(load("validation/droplet_wall_2d.yaml", {"mold.contact_angle=60"}),
+                             200, /*expect_migration=*/false);
+}
+
+// The jet impact (issue 18 part 2): the block hits the wall at 2.5 m/s
+// (from step ~300) and the wall repulsion acts across rank borders.
+TEST(RankIndependence, JetImpact) {
+  expect_rank_independent<2>(load("validation/jet_impact.yaml", {"initial_velocity=[-2.5, 0]"}),
+                             500);
+}
+
+// Free-slip walls (issue 18 part 1) in a channel: the wall velocity is the
+// resin's tangential one.
+TEST(RankIndependence, FreeSlipChannel) {
+  expect_rank_independent<2>(load("validation/poiseuille.yaml",
+                                  {"body_force=[5.0e-3, 0]", "mold.wall_condition=free_slip"}),
+                             300, /*expect_migration=*/false);
+}
+
 TEST(RankIndependence, DamBreakWithForcedRebalancing) {
   expect_rank_independent<2>(load("validation/dam_break.yaml",
                                   {"parallel.balance_every=10", "parallel.imbalance_threshold=0"}),
