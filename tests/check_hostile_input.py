@@ -99,8 +99,12 @@ if scenario == "size":
 
 elif scenario == "files":
     text = open(plate).read()
+
+    def line_of(needle):  # the 1-based line of the case file that holds needle
+        return text[:text.index(needle)].count("\n") + 1
+
     path = write("slash.yaml", text.replace("name: plate", "name: ../escape"))
-    refused(["check", path], f"{path}:6: key 'name': '../escape' is not a file-name-safe",
+    refused(["check", path], f"{path}:{line_of('name: plate')}: key 'name': '../escape' is not a file-name-safe",
             "a name with '/'")
     refused(["check", "/dev/zero"], "/dev/zero: not a regular file", "/dev/zero")
     os.makedirs(os.path.join(work, "a_dir"))
@@ -126,7 +130,8 @@ elif scenario == "files":
     path = write("bowtie.yaml", text.replace(
         "[[-0.015, 0.030], [-0.003, 0.005], [0.003, 0.005], [0.015, 0.030]]",
         "[[-0.015, 0.030], [0.003, 0.005], [-0.003, 0.005], [0.015, 0.030]]"))
-    refused(["check", path], f"{path}:25: key 'mold.shapes[1].polygon': polygon intersects itself",
+    refused(["check", path], f"{path}:{line_of('[[-0.015, 0.030], [-0.003')}: key 'mold.shapes[1].polygon': "
+            "polygon intersects itself",
             "a self-intersecting nozzle")
     # Every rank reads the case; the error is printed once.
     err = refused(["check", path], "polygon intersects itself", "2 ranks", ranks=2)

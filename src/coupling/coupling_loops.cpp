@@ -273,7 +273,7 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
     const auto r = static_cast<std::size_t>(resin[k]);
     // 2D: the drag is per depth `thickness`, the resin's mass per metre.
     if (impulse_dt > 0) {
-      if (!sph.frozen[r]) {
+      if (!sph.is_frozen(r)) {
         const Vec<D> dv = (impulse_dt / (s.thickness * sph.mass[r])) * force[k];
         sph.v_half[r] += dv;
         sph.v[r] += dv;
