@@ -8,7 +8,8 @@ at step 2 on one rank, then for each rank count P of --ranks it measures,
 each rank wrapped in `/usr/bin/time -v`:
 
   set-up    `sphdem run --steps 0`: placing the fibers and the first
-            snapshot (every rank places every fiber: issue 14 part 1);
+            snapshot (each rank places the fibers of its tiles'
+            neighbourhood: docs/dem.md "Fiber generator");
   restart   `sphdem run --restart <checkpoint> --steps 2`: the set-up, then
             the checkpoint read, the migration to the owners, the first
             rebuild and a snapshot.

@@ -16,12 +16,20 @@ measured on this machine (docs/scaling.md lists the commands); each is an
 option:
 
   set-up(P)  = t_setup (resin + wall + DEM)/P       filling, first rebuild, per rank
-             + t_fiber F                           fiber placement (every rank places all F)
+             + t_fiber F_placed(P)                 fiber placement: a rank's tiles and
+                                                   the lower-colour tiles they depend on
              + METIS(P)                            rank 0's partition of the top-level cells
              + 2 alpha log2 P                      the counts' Alltoall and the health vote
   restart(P) = max(t_read (resin + wall + DEM)/P,  the rows of its slice, migration, rebuild
                    S / B_fs)                       the whole checkpoint through the file system
              + 2 alpha log2 P
+
+F_placed(P) follows the generator (docs/dem.md, "Fiber generator"): tiles of
+about 32 fibers, a rank's share F/P covers x = (F/P/32)^(1/3) tiles along each
+axis, so it touches e = ceil(x) + 1 (1 when x < 1), and it places the tiles
+of that e^3 box closed under "a tile's neighbours of lower colour" (computed
+here, the worst of the 8 parities of the box's corner: 203 tiles for e = 1
+and 2, 485 for e = 3 and 4), at most all F fibers.
 
 METIS(P) is `sphdem partition`'s METIS column at the rank counts given
 (--metis P=seconds,...), interpolated linearly in log P and extrapolated
@@ -29,6 +37,7 @@ from the last two points; S is the checkpoint's bytes (--ckpt-bytes per
 particle x particles).
 """
 import argparse
+import itertools
 import math
 import re
 import subprocess
@@ -68,15 +77,44 @@ def metis_time(points, p):
     return pts[-1][1]
 
 
+def closure_tiles(e, dim=3):
+    """Tiles a share whose box touches e tiles per axis places: the box closed
+    under the lower-colour neighbours (src/dem/fiber_generator.cpp,
+    tiles_of_share), the worst of the corner's 2^dim parities."""
+    worst = 0
+    for off in itertools.product((0, 1), repeat=dim):
+        need = set(itertools.product(*[range(off[d], off[d] + e) for d in range(dim)]))
+        colour = lambda t: sum((t[d] & 1) << d for d in range(dim))
+        for c in range((1 << dim) - 1, 0, -1):
+            for t in [t for t in need if colour(t) == c]:
+                for dk in itertools.product((-1, 0, 1), repeat=dim):
+                    j = tuple(t[d] + dk[d] for d in range(dim))
+                    if colour(j) < c:
+                        need.add(j)
+        worst = max(worst, len(need))
+    return worst
+
+
+def fibers_placed(a, p, fibers):
+    """The fibers the busiest rank places at p ranks (the model's F_placed)."""
+    x = (fibers / p / a.fibers_per_tile) ** (1 / 3)
+    e = 1 if x < 1 else math.ceil(x) + 1
+    if e > 12:  # the closure adds a shell at most 7 tiles deep (2^3 - 1 colours)
+        return min(fibers, a.fibers_per_tile * (e + 14) ** 3)
+    return min(fibers, a.fibers_per_tile * closure_tiles(e))
+
+
 def row(a, p, mem, resin, wall, dem, fibers):
     n = resin + wall + dem
     lat = 2 * a.alpha * (math.log2(p) if p > 1 else 0)
     metis = metis_time(a.metis_points, p)
     setup_share = a.t_setup * n / p
-    setup = setup_share + a.t_fiber * fibers + metis + lat
+    placed = fibers_placed(a, p, fibers)
+    setup = setup_share + a.t_fiber * placed + metis + lat
     read = max(a.t_read * n / p, a.ckpt_bytes * n / a.fs_bandwidth) + lat
-    return ("| %d | %.3g | %.0f | %s | %.1f | %.1f | %.2f | %.1f | %.2f |" %
-            (p, n, n / p, fmt_bytes(mem), setup_share, a.t_fiber * fibers, metis, setup, read))
+    return ("| %d | %.3g | %.0f | %s | %.1f | %.0f | %.1f | %.2f | %.1f | %.2f |" %
+            (p, n, n / p, fmt_bytes(mem), setup_share, placed, a.t_fiber * placed, metis, setup,
+             read))
 
 
 def fmt_bytes(b):
@@ -93,8 +131,9 @@ def fmt_bytes(b):
 # max(64 P, 2^20) blocks.
 METIS_PLATE = "1024=3.451,4096=10.535,16384=16.817"
 
-HEADER = ("| ranks | particles | per rank | memory per rank | set-up share [s] | fibers [s] | "
-          "METIS [s] | set-up [s] | restart read [s] |\n|---|---|---|---|---|---|---|---|---|")
+HEADER = ("| ranks | particles | per rank | memory per rank | set-up share [s] | fibers placed "
+          "per rank | fibers [s] | METIS [s] | set-up [s] | restart read [s] |\n"
+          "|---|---|---|---|---|---|---|---|---|---|")
 
 
 def main():
@@ -114,7 +153,9 @@ def main():
                     help="set-up CPU seconds per particle of a rank's share (measured: "
                          "docs/scaling.md)")
     ap.add_argument("--t-fiber", type=float, default=1.4e-4,
-                    help="seconds to place one fiber (every rank places all; measured)")
+                    help="seconds to place one fiber (measured)")
+    ap.add_argument("--fibers-per-tile", type=float, default=32.0,
+                    help="the generator's fibers per tile (kFibersPerTile)")
     ap.add_argument("--t-read", type=float, default=1.2e-5,
                     help="restart seconds per particle of a rank's slice (measured)")
     ap.add_argument("--ckpt-bytes", type=float, default=172.0,
