@@ -321,7 +321,8 @@ Section<Numerics> make_numerics() {
       "`viscous_integration: implicit` drops the viscous limit: after the second\n"
       "kick the velocities solve (M - dt M L) u = M v, the walls' dummy values\n"
       "taken from u itself, by Jacobi-preconditioned BiCGSTAB over the neighbour\n"
-      "graph, with rank-count independent sums. A solve that does not reach `implicit_tolerance` within\n"
+      "graph, with rank-count independent sums. A solve that does not reach `implicit_tolerance` "
+      "within\n"
       "`implicit_max_iterations` stops the run with an error (docs/physics.md\n"
       "\"Implicit viscosity\").\n";
   return s;
