@@ -60,6 +60,27 @@ TEST(ExactSum, IndependentOfTheOrderOfTheTerms) {
   EXPECT_EQ(exact_total({1.5, -0.25}), 1.25);
 }
 
+// The sums' fast path (a multiplication by 2^s) rounds every term as ldexp
+// does, subnormal products included; out of the normal range it is refused.
+TEST(ExactSum, ScaledTermsEqualTheLdexpOnes) {
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1);
+  // s >= -962 for a finite largest term (< 2^1024); 1023 the last normal power.
+  for (int s : {-962, -900, -60, 0, 62, 500, 1023}) {
+    const double power = exact_power(s);
+    ASSERT_GT(power, 0.0) << s;
+    for (int k = 0; k < 2000; ++k) {
+      // terms below 2^(62 - s) in magnitude, down to far below the grid (subnormal products)
+      const int e = 61 - s - static_cast<int>(1100 * std::abs(u(rng)));
+      const double x = u(rng) * std::ldexp(1.0, e);
+      ASSERT_TRUE(std::isfinite(x));
+      EXPECT_EQ(exact_term_scaled(x * power), exact_term(x, s)) << s << " " << x;
+    }
+  }
+  EXPECT_EQ(exact_power(-1023), 0.0);
+  EXPECT_EQ(exact_power(1024), 0.0);
+}
+
 // ------------------------------------------------------------ the operator
 
 SphParams params() {

@@ -184,9 +184,16 @@ class ViscousSystem {
     for (std::size_t k = 0; k < K; ++k) scale[k] = exact_sum_scale(max[k]);
     for (std::size_t k = 0; k < K; ++k) {
       if (!std::isfinite(max[k])) continue;
-      for (std::size_t i = 0; i < n; ++i)
-        for (int d = 0; d < D; ++d)
-          sum[k] += exact_term((*v[2 * k])[i][d] * (*v[2 * k + 1])[i][d], scale[k]);
+      const std::vector<Vec<D>>& a = *v[2 * k];
+      const std::vector<Vec<D>>& b = *v[2 * k + 1];
+      const double power = exact_power(scale[k]);
+      if (power > 0.0) {
+        for (std::size_t i = 0; i < n; ++i)
+          for (int d = 0; d < D; ++d) sum[k] += exact_term_scaled((a[i][d] * b[i][d]) * power);
+      } else {
+        for (std::size_t i = 0; i < n; ++i)
+          for (int d = 0; d < D; ++d) sum[k] += exact_term(a[i][d] * b[i][d], scale[k]);
+      }
     }
     hooks_.exact_sum(sum);
     for (std::size_t k = 0; k < K; ++k)
