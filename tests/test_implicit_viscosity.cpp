@@ -3,12 +3,15 @@
 //  - the operator: the explicit Morris term's acceleration (Newtonian and
 //    harmonic-mean variable viscosity), symmetric (m_i K_ij = m_j K_ji),
 //    negative semi-definite with the walls at rest, zero on a uniform field;
-//  - the conjugate-gradient solve: the backward-Euler system holds at the
-//    end; too few iterations are reported as not converged;
-//  - start-up Couette at a viscosity where the explicit limit binds:
-//    implicit against explicit (at its own small step) and against the
-//    series solution; a solve that does not converge stops the run;
-//  - 1 against 2 and 3 ranks, bitwise.
+//  - the BiCGSTAB solve: the backward-Euler system holds at the end with
+//    the walls' dummy values taken from the solution (no-slip, free and
+//    Navier slip, frozen resin, 2D and 3D), by hand for one particle over
+//    one wall; too few iterations are reported as not converged;
+//  - start-up Couette and Poiseuille at a viscosity where the explicit
+//    limit binds: implicit against explicit (at its own small step) and
+//    against the series solution, first order in time; a solve that does
+//    not converge stops the run;
+//  - 1 against 2 and 3 ranks, bitwise (Couette and Poiseuille).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -202,9 +205,18 @@ ViscousSolveHooks one_rank_hooks() {
 // The solve's result u satisfies u - dt L u = v0 where the walls show the
 // dummy values that compute_wall_state (the explicit term's) takes from u
 // itself: no-slip, free slip and Navier slip, walls moving.
-void expect_backward_euler(WallSlip type) {
+// freeze: the resin particles of the lowest row are frozen (known values in
+// the walls' Shepard means).
+void expect_backward_euler(WallSlip type, bool freeze = false) {
   std::mt19937_64 rng(11);
   SphParticles<2> ps = block(rng);
+  int frozen = 0;
+  for (std::size_t i = 0; i < ps.n_owned && freeze; ++i) {
+    if (ps.kind[i] != Kind::Fluid || ps.x[i][1] >= 0.5e-3) continue;
+    ps.frozen[i] = 1;
+    ++frozen;
+  }
+  ASSERT_EQ(frozen, freeze ? 6 : 0);
   SphParams sp = params();
   sp.variable_viscosity = true;
   // The wall rows at y = -1 and -2 mm, the surface at y = -0.5 mm; wall 0 moves.
@@ -239,6 +251,10 @@ void expect_backward_euler(WallSlip type) {
   double change = 0;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid) continue;
+    if (ps.frozen[i]) {
+      EXPECT_EQ(ps.v[i], v0[i]) << i;
+      continue;
+    }
     change = std::max(change, (ps.v[i] - v0[i]).norm());
     for (int d = 0; d < 2; ++d) EXPECT_NEAR(ps.v[i][d] - dt * lu[i][d], v0[i][d], 1e-9) << i;
   }
@@ -253,6 +269,67 @@ TEST(ViscousSolve, SatisfiesTheBackwardEulerSystemFreeSlip) {
 }
 TEST(ViscousSolve, SatisfiesTheBackwardEulerSystemNavierSlip) {
   expect_backward_euler(WallSlip::NavierSlip);
+}
+TEST(ViscousSolve, SatisfiesTheBackwardEulerSystemWithFrozenResinAtTheWall) {
+  expect_backward_euler(WallSlip::NoSlip, /*freeze=*/true);
+}
+
+// The same in 3D: a jittered 4 x 4 x 4 block of resin over two layers of
+// moving wall particles (surface at z = -0.5 mm), Navier slip and no-slip.
+void expect_backward_euler_3d(WallSlip type) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(-1, 1);
+  SphParticles<3> ps;
+  std::int64_t gid = 0;
+  for (int k = -2; k < 4; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const Kind kind = k < 0 ? Kind::Wall : Kind::Fluid;
+        const double jitter = kind == Kind::Fluid ? 0.15e-3 : 0.0;
+        const Vec<3> x(i * 1e-3 + jitter * u(rng), j * 1e-3 + jitter * u(rng),
+                       k * 1e-3 + jitter * u(rng));
+        const Vec<3> v =
+            kind == Kind::Fluid ? Vec<3>(u(rng), u(rng), u(rng)) : Vec<3>(0.3, -0.2, 0.1);
+        ps.push_owned(gid++, kind, kind == Kind::Wall ? 0 : -1, 1e-6 * (1 + 0.1 * u(rng)), x, v,
+                      1000 * (1 + 0.01 * u(rng)));
+        ps.p.back() = 0.0;
+        ps.viscosity.back() = kind == Kind::Fluid ? 0.05 * (1.5 + u(rng)) : 0.0;
+        if (kind == Kind::Wall) ps.wall_to_surface.back() = Vec<3>(0, 0, -0.5e-3 - x[2]);
+      }
+  SphParams sp = params();
+  sp.variable_viscosity = true;
+  const std::vector<WallSlipLaw> slip = {{type, 0.7e-3}};
+  NeighborList<3> nl(2 * sp.h, 0.2 * sp.h);
+  nl.build(ps);
+  const double dt = 200 * 0.125 * sp.h * sp.h * sp.rho0 / 0.125;
+  const std::vector<Vec<3>> v0 = ps.v;
+  const ViscousSolveStats s =
+      solve_implicit_viscosity<3>(sp, dt, 1e-12, 500, nl, ps, slip, one_rank_hooks());
+  EXPECT_TRUE(s.converged);
+  EXPECT_GT(s.iterations, 3);
+  ViscousOperator<3> op;
+  op.build(sp, nl, ps);
+  std::vector<WallKinematics<3>> walls(1);
+  walls[0].slip = slip[0];
+  compute_wall_state<3>(sp, TaitEos(sp.rho0, sp.c0, 7.0), nl, walls, ps);
+  std::vector<Vec<3>> field(ps.size()), lu;
+  for (std::size_t i = 0; i < ps.size(); ++i)
+    field[i] = ps.kind[i] == Kind::Fluid ? ps.v[i] : ps.vwall[i];
+  op.apply(nl, ps, field, lu);
+  double change = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    change = std::max(change, (ps.v[i] - v0[i]).norm());
+    for (int d = 0; d < 3; ++d) EXPECT_NEAR(ps.v[i][d] - dt * lu[i][d], v0[i][d], 1e-9) << i;
+  }
+  EXPECT_GT(change, 0.1) << "the solve should have smoothed the random field";
+}
+
+TEST(ViscousSolve, SatisfiesTheBackwardEulerSystem3dNoSlip) {
+  expect_backward_euler_3d(WallSlip::NoSlip);
+}
+TEST(ViscousSolve, SatisfiesTheBackwardEulerSystem3dNavierSlip) {
+  expect_backward_euler_3d(WallSlip::NavierSlip);
 }
 
 // By hand: one resin particle at the origin, one wall particle 1 mm below
