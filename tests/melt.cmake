@@ -7,4 +7,4 @@ sphdem_test(test_melt_viscosity SOURCES test_melt_viscosity.cpp RANKS 1 2 LABELS
 # solve, start-up Couette against explicit and the series; N ranks bitwise.
 sphdem_test(test_implicit_viscosity SOURCES test_implicit_viscosity.cpp RANKS 1 2 3
             LABELS validation TIMEOUT 300 MULTI_RANK_TESTS ImplicitParallel.*
-            ONE_RANK_TESTS ExactSum.*:ViscousOperator.*:ViscousSolve.*:ImplicitCouette.*:ImplicitKeys.*)
+            ONE_RANK_TESTS ExactSum.*:ViscousOperator.*:ViscousSolve.*:ImplicitCouette.*:ImplicitPoiseuille.*:ImplicitKeys.*)

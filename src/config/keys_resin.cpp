@@ -216,8 +216,8 @@ Key<Numerics> viscous_integration() {
                   "",
                   "explicit or implicit",
                   "explicit: the viscous term in the pair loop (dt <= viscous_factor h^2 rho0 / "
-                  "mu); implicit: a backward-Euler conjugate-gradient solve after the second kick, "
-                  "no viscous limit; see `docs/physics.md` \"Implicit viscosity\""};
+                  "mu); implicit: a backward-Euler solve (BiCGSTAB) after the second kick, no "
+                  "viscous limit; see `docs/physics.md` \"Implicit viscosity\""};
   k.read = [](const Value& v, Numerics& n, Context&) {
     n.viscous_integration = one_of(v, {"explicit", "implicit"}) == "implicit"
                                 ? ViscousIntegration::Implicit
@@ -264,8 +264,8 @@ Section<Numerics> make_numerics() {
                             "fraction of the right-hand side (mass-weighted norms)")
                          .identity()),
       unless_default(integer("implicit_max_iterations", "", 1, &N::implicit_max_iterations,
-                             "implicit viscosity: conjugate-gradient iterations before the run "
-                             "stops with an error")
+                             "implicit viscosity: BiCGSTAB iterations before the run stops "
+                             "with an error")
                          .identity()),
       number("artificial_viscosity", "", non_negative_number(), &N::artificial_viscosity,
              "Monaghan alpha")
@@ -319,9 +319,10 @@ Section<Numerics> make_numerics() {
       "`key 'numerics.fixed_dt': 2.0e-6 s exceeds the stable limit cfl*h/c0 = 1.5e-06 s`.\n"
       "\n"
       "`viscous_integration: implicit` drops the viscous limit: after the second\n"
-      "kick the velocities solve (M - dt M L) u = M v by Jacobi-preconditioned\n"
-      "conjugate gradients over the neighbour graph, with rank-count independent\n"
-      "sums. A solve that does not reach `implicit_tolerance` within\n"
+      "kick the velocities solve (M - dt M L) u = M v, the walls' dummy values\n"
+      "taken from u itself, by Jacobi-preconditioned BiCGSTAB over the neighbour\n"
+      "graph, with rank-count independent sums. A solve that does not reach `implicit_tolerance` "
+      "within\n"
       "`implicit_max_iterations` stops the run with an error (docs/physics.md\n"
       "\"Implicit viscosity\").\n";
   return s;

@@ -138,10 +138,11 @@ CaseSize estimate(const Case& c, int ranks) {
     // the measured peak at 1 to 8 ranks (docs/scaling.md).
     sph_run =
         kSphOverhead * (owned + ghosts) * (2.0 * per_particle + neighbours * sizeof(std::int32_t));
-    // Implicit viscosity: a coefficient per neighbour and the solve's six
-    // vectors and diagonal per owned particle (src/sph/implicit_viscosity.cpp).
+    // Implicit viscosity: a coefficient and a wall's Shepard weight per
+    // neighbour, the solve's ten vectors, the diagonal and a wall's weight
+    // sum per owned particle (src/sph/implicit_viscosity.cpp).
     if (c.numerics.viscous_integration == ViscousIntegration::Implicit)
-      sph_run += owned * (neighbours + 6.0 * D + 1.0) * sizeof(double);
+      sph_run += owned * (2.0 * neighbours + 10.0 * D + 2.0) * sizeof(double);
   }
   if (c.fibers) {
     const FiberSettings& f = *c.fibers;

@@ -322,8 +322,10 @@ void ResinModule<D>::solve_viscosity(double dt) {
     exact_sum(comm_, v);
   };
   const Numerics& num = case_.numerics;
+  std::vector<WallSlipLaw> slip(walls_.size());
+  for (std::size_t k = 0; k < walls_.size(); ++k) slip[k] = walls_[k].slip;
   const ViscousSolveStats s = solve_implicit_viscosity<D>(
-      sp_, dt, num.implicit_tolerance, num.implicit_max_iterations, nl_, ps_, hooks);
+      sp_, dt, num.implicit_tolerance, num.implicit_max_iterations, nl_, ps_, slip, hooks);
   cg_iterations_ = s.iterations;
   if (!s.converged) {
     throw CollectiveSimulationError(fmt::format(

@@ -1,5 +1,5 @@
 // Implicit laminar viscosity: the operator and the Jacobi-preconditioned
-// conjugate-gradient solve (include/sphdem/sph/implicit_viscosity.hpp,
+// BiCGSTAB solve, the walls' dummy values implicit (include/sphdem/sph/implicit_viscosity.hpp,
 // docs/physics.md "Implicit viscosity").
 #include "sphdem/sph/implicit_viscosity.hpp"
 
@@ -55,58 +55,106 @@ void ViscousOperator<D>::apply(const NeighborList<D>& nl, const SphParticles<D>&
 
 namespace {
 
-// The conjugate-gradient state over the owned unknowns (rows of the owned
-// resin particles; other rows stay 0). B = M (I - dt L) restricted to the
-// unknowns: B_ii = m_i (1 - dt S_i), B_ij = dt m_i K_ij for an unknown j.
+// The linear system over the owned unknowns (rows of the owned resin
+// particles that are not frozen; other rows stay 0):
+//   (B u)_i = m_i (1 - dt S_i) u_i + dt m_i sum_j K_ij u_j,
+// u_j for a wall neighbour its dummy value from the resin's u (affine: the
+// wall's own velocity and the frozen resin give the constant part, moved to
+// the right-hand side b).
 template <int D>
-class ViscousCg {
+class ViscousSystem {
  public:
-  ViscousCg(const SphParams& sp, double dt, const NeighborList<D>& nl, SphParticles<D>& ps,
-            const ViscousSolveHooks& hooks)
-      : dt_(dt), nl_(nl), ps_(ps), hooks_(hooks) {
+  ViscousSystem(const SphParams& sp, double dt, const NeighborList<D>& nl, SphParticles<D>& ps,
+                std::span<const WallSlipLaw> wall_slip, const ViscousSolveHooks& hooks)
+      : sp_(sp), dt_(dt), nl_(nl), ps_(ps), wall_slip_(wall_slip), hooks_(hooks) {
     op_.build(sp, nl, ps);
     const std::size_t n = ps.n_owned;
     diag_.assign(n, 0.0);
     for (std::size_t i = 0; i < n; ++i)
       if (ps.visc_free[i] > 0.5) diag_[i] = ps.mass[i] * (1.0 - dt * op_.row_sum[i]);
-  }
-
-  // visc_u and visc_free are current on the ghosts: visc_u the known values
-  // (walls, frozen) and the start velocities (unknowns). Returns b and B x0.
-  void rhs_and_product(std::vector<Vec<D>>& b, std::vector<Vec<D>>& bx) const {
-    const std::size_t n = ps_.n_owned;
-    b.assign(n, Vec<D>::Zero());
-    bx.assign(n, Vec<D>::Zero());
-    const std::int32_t* nb = nl_.indices();
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!(ps_.visc_free[i] > 0.5)) continue;
-      Vec<D> known = Vec<D>::Zero(), unknown = Vec<D>::Zero();
-      for (std::size_t k = nl_.begin(i), e = nl_.end(i); k < e; ++k) {
-        const auto j = static_cast<std::size_t>(nb[k]);
-        const double f = ps_.visc_free[j];
-        unknown += (op_.coeff[k] * f) * ps_.visc_u[j];
-        known += (op_.coeff[k] * (1.0 - f)) * ps_.visc_u[j];
+    // The walls' Shepard weights, as compute_wall_state takes them.
+    const WendlandC2<D> kernel(sp.h);
+    shepard_.assign(nl.total_pairs(), 0.0);
+    wall_sum_.assign(n, 0.0);
+    const std::int32_t* nb = nl.indices();
+    for (std::size_t w = 0; w < n; ++w) {
+      if (ps.kind[w] != Kind::Wall) continue;
+      double sum = 0.0;
+      for (std::size_t k = nl.begin(w), e = nl.end(w); k < e; ++k) {
+        const double W = kernel.w((ps.x[w] - ps.x[static_cast<std::size_t>(nb[k])]).norm());
+        shepard_[k] = W;
+        sum += W;
       }
-      const double dm = dt_ * ps_.mass[i];
-      b[i] = ps_.mass[i] * ps_.visc_u[i] - dm * known;
-      bx[i] = diag_[i] * ps_.visc_u[i] + dm * unknown;
+      wall_sum_[w] = sum;
+      if (sum > 0.0)
+        for (std::size_t k = nl.begin(w), e = nl.end(w); k < e; ++k) shepard_[k] /= sum;
     }
   }
 
-  // q = B p, p in visc_u (current on the ghosts; known entries ignored).
-  void product(std::vector<Vec<D>>& q) const {
+  // Loads into visc_u, owned and ghosts, the value every particle shows the
+  // rows: x for an unknown, the known velocity of frozen resin, a wall's
+  // dummy value from those. homogeneous: the linear part only (frozen resin
+  // and the walls' own velocities 0).
+  void load(const std::vector<Vec<D>>& x, bool homogeneous) const {
     const std::size_t n = ps_.n_owned;
-    q.assign(n, Vec<D>::Zero());
+    for (std::size_t i = 0; i < n; ++i) {
+      if (ps_.kind[i] != Kind::Fluid) continue;
+      if (ps_.visc_free[i] > 0.5)
+        ps_.visc_u[i] = x[i];
+      else
+        ps_.visc_u[i] = homogeneous ? Vec<D>::Zero() : ps_.v[i];
+    }
+    hooks_.forward(SphGroup::Viscous);
+    const std::int32_t* nb = nl_.indices();
+    for (std::size_t w = 0; w < n; ++w) {
+      if (ps_.kind[w] != Kind::Wall) continue;
+      const Vec<D> vw = homogeneous ? Vec<D>::Zero() : ps_.v[w];
+      if (!(wall_sum_[w] > 0.0)) {  // no resin neighbour: its own velocity
+        ps_.visc_u[w] = vw;
+        continue;
+      }
+      Vec<D> mean = Vec<D>::Zero();
+      for (std::size_t k = nl_.begin(w), e = nl_.end(w); k < e; ++k)
+        mean += shepard_[k] * ps_.visc_u[static_cast<std::size_t>(nb[k])];
+      const std::int32_t index = ps_.wall[w];
+      const WallSlipLaw& law = index >= 0 && static_cast<std::size_t>(index) < wall_slip_.size()
+                                   ? wall_slip_[static_cast<std::size_t>(index)]
+                                   : sp_.mold_wall;
+      const Vec<D> to_surface =
+          ps_.wall_to_surface.empty() ? Vec<D>::Zero() : Vec<D>(ps_.wall_to_surface[w]);
+      ps_.visc_u[w] = dummy_velocity<D>(law, vw, mean, to_surface);
+    }
+    hooks_.forward(SphGroup::Viscous);
+  }
+
+  // out = B x over the unknowns from the values load() left in visc_u.
+  void rows(std::vector<Vec<D>>& out) const {
+    const std::size_t n = ps_.n_owned;
+    out.assign(n, Vec<D>::Zero());
     const std::int32_t* nb = nl_.indices();
     for (std::size_t i = 0; i < n; ++i) {
       if (!(ps_.visc_free[i] > 0.5)) continue;
       Vec<D> s = Vec<D>::Zero();
-      for (std::size_t k = nl_.begin(i), e = nl_.end(i); k < e; ++k) {
-        const auto j = static_cast<std::size_t>(nb[k]);
-        s += (op_.coeff[k] * ps_.visc_free[j]) * ps_.visc_u[j];
-      }
-      q[i] = diag_[i] * ps_.visc_u[i] + (dt_ * ps_.mass[i]) * s;
+      for (std::size_t k = nl_.begin(i), e = nl_.end(i); k < e; ++k)
+        s += op_.coeff[k] * ps_.visc_u[static_cast<std::size_t>(nb[k])];
+      out[i] = diag_[i] * ps_.visc_u[i] + (dt_ * ps_.mass[i]) * s;
     }
+  }
+
+  // q = B x (linear).
+  void product(const std::vector<Vec<D>>& x, std::vector<Vec<D>>& q) const {
+    load(x, /*homogeneous=*/true);
+    rows(q);
+  }
+
+  // b = M v - (the known values' part of the rows), v the start velocities.
+  void rhs(const std::vector<Vec<D>>& v, std::vector<Vec<D>>& b) const {
+    const std::size_t n = ps_.n_owned;
+    const std::vector<Vec<D>> zero(n, Vec<D>::Zero());
+    load(zero, /*homogeneous=*/false);
+    rows(b);
+    for (std::size_t i = 0; i < n; ++i)
+      b[i] = ps_.visc_free[i] > 0.5 ? Vec<D>(ps_.mass[i] * v[i] - b[i]) : Vec<D>::Zero();
   }
 
   double inverse_diag(std::size_t i) const { return diag_[i] > 0 ? 1.0 / diag_[i] : 0.0; }
@@ -136,9 +184,16 @@ class ViscousCg {
     for (std::size_t k = 0; k < K; ++k) scale[k] = exact_sum_scale(max[k]);
     for (std::size_t k = 0; k < K; ++k) {
       if (!std::isfinite(max[k])) continue;
-      for (std::size_t i = 0; i < n; ++i)
-        for (int d = 0; d < D; ++d)
-          sum[k] += exact_term((*v[2 * k])[i][d] * (*v[2 * k + 1])[i][d], scale[k]);
+      const std::vector<Vec<D>>& a = *v[2 * k];
+      const std::vector<Vec<D>>& b = *v[2 * k + 1];
+      const double power = exact_power(scale[k]);
+      if (power > 0.0) {
+        for (std::size_t i = 0; i < n; ++i)
+          for (int d = 0; d < D; ++d) sum[k] += exact_term_scaled((a[i][d] * b[i][d]) * power);
+      } else {
+        for (std::size_t i = 0; i < n; ++i)
+          for (int d = 0; d < D; ++d) sum[k] += exact_term(a[i][d] * b[i][d], scale[k]);
+      }
     }
     hooks_.exact_sum(sum);
     for (std::size_t k = 0; k < K; ++k)
@@ -147,12 +202,16 @@ class ViscousCg {
   }
 
  private:
+  const SphParams& sp_;
   double dt_;
   const NeighborList<D>& nl_;
   SphParticles<D>& ps_;
+  std::span<const WallSlipLaw> wall_slip_;
   const ViscousSolveHooks& hooks_;
   ViscousOperator<D> op_;
   std::vector<double> diag_;
+  std::vector<double> shepard_;   // per neighbour-list entry of a wall row: W / sum W
+  std::vector<double> wall_sum_;  // per owned wall: sum W over its resin neighbours
 };
 
 }  // namespace
@@ -160,58 +219,74 @@ class ViscousCg {
 template <int D>
 ViscousSolveStats solve_implicit_viscosity(const SphParams& sp, double dt, double tolerance,
                                            int max_iterations, const NeighborList<D>& nl,
-                                           SphParticles<D>& ps, const ViscousSolveHooks& hooks) {
+                                           SphParticles<D>& ps,
+                                           std::span<const WallSlipLaw> wall_slip,
+                                           const ViscousSolveHooks& hooks) {
   const std::size_t n = ps.n_owned;
-  // Unknowns, known values and start values, then to the ghosts.
+  // The unknowns (owned rows; load() forwards the values they show).
   for (std::size_t i = 0; i < n; ++i) {
-    const bool fluid = ps.kind[i] == Kind::Fluid;
-    const bool free = fluid && !ps.is_frozen(i);
+    const bool free = ps.kind[i] == Kind::Fluid && !ps.is_frozen(i);
     ps.visc_free[i] = free ? 1.0 : 0.0;
-    ps.visc_u[i] = fluid ? ps.v[i] : ps.vwall[i];
   }
-  hooks.forward(SphGroup::Viscous);
-  ViscousCg<D> cg(sp, dt, nl, ps, hooks);
+  ViscousSystem<D> sys(sp, dt, nl, ps, wall_slip, hooks);
 
-  std::vector<Vec<D>> x(n), b, r, z(n, Vec<D>::Zero()), p(n), q;
-  for (std::size_t i = 0; i < n; ++i) x[i] = ps.visc_u[i];
-  cg.rhs_and_product(b, r);
-  for (std::size_t i = 0; i < n; ++i) {
-    r[i] = b[i] - r[i];
-    z[i] = cg.inverse_diag(i) * r[i];
-    p[i] = z[i];
-  }
-  const auto [bb, rr0, rz0] = cg.template dots<3>({&b, &b, &r, &r, &r, &z});
-  double rr = rr0, rz = rz0;
+  // Preconditioned BiCGSTAB (right Jacobi preconditioner), from x = v.
+  std::vector<Vec<D>> x(n, Vec<D>::Zero()), b, r(n), rhat, p(n, Vec<D>::Zero()),
+      v(n, Vec<D>::Zero()), y(n), s(n), z(n), t;
+  for (std::size_t i = 0; i < n; ++i)
+    if (ps.visc_free[i] > 0.5) x[i] = ps.v[i];
+  sys.rhs(ps.v, b);
+  sys.product(x, r);
+  for (std::size_t i = 0; i < n; ++i) r[i] = b[i] - r[i];
+  rhat = r;
+  const auto [bb, rr0] = sys.template dots<2>({&b, &b, &r, &r});
+  double rr = rr0, rho = rr0;  // rho = (rhat, r) = (r, r) at the start
   const double target = tolerance * tolerance * bb;
   ViscousSolveStats stats;
   if (bb == 0.0) {  // the solution is 0
     for (std::size_t i = 0; i < n; ++i) x[i].setZero();
     rr = 0.0;
   }
-  auto finish = [&] {
-    stats.residual = bb > 0 ? std::sqrt(rr / bb) : 0.0;
-    stats.converged = rr <= target && std::isfinite(rr);
-  };
+  double rho_prev = 1.0, alpha = 1.0, omega = 1.0;
+  bool first = true;
   while (!(rr <= target) && stats.iterations < max_iterations && std::isfinite(rr)) {
-    for (std::size_t i = 0; i < n; ++i) ps.visc_u[i] = p[i];
-    hooks.forward(SphGroup::Viscous);
-    cg.product(q);
-    const double pq = cg.template dots<1>({&p, &q})[0];
-    const double alpha = pq > 0 ? rz / pq : 0.0;
+    if (!(rho != 0.0)) break;  // breakdown: (rhat, r) = 0 before convergence
+    const double beta = first ? 0.0 : (rho / rho_prev) * (alpha / omega);
+    first = false;
     for (std::size_t i = 0; i < n; ++i) {
-      x[i] += alpha * p[i];
-      r[i] -= alpha * q[i];
-      z[i] = cg.inverse_diag(i) * r[i];
+      p[i] = r[i] + beta * (p[i] - omega * v[i]);
+      y[i] = sys.inverse_diag(i) * p[i];
     }
-    const auto [rr_new, rz_new] = cg.template dots<2>({&r, &r, &r, &z});
-    const double beta = rz > 0 ? rz_new / rz : 0.0;
-    rr = rr_new;
-    rz = rz_new;
-    for (std::size_t i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
+    sys.product(y, v);
+    const double rv = sys.template dots<1>({&rhat, &v})[0];
     ++stats.iterations;
-    if (!(pq > 0)) break;  // a zero search direction: nothing left to reduce
+    if (!(rv != 0.0)) break;  // breakdown
+    alpha = rho / rv;
+    for (std::size_t i = 0; i < n; ++i) {
+      s[i] = r[i] - alpha * v[i];
+      z[i] = sys.inverse_diag(i) * s[i];
+    }
+    const double ss = sys.template dots<1>({&s, &s})[0];
+    if (ss <= target) {  // converged at the half step
+      for (std::size_t i = 0; i < n; ++i) x[i] += alpha * y[i];
+      rr = ss;
+      break;
+    }
+    sys.product(z, t);
+    const auto [ts, tt] = sys.template dots<2>({&t, &s, &t, &t});
+    omega = tt > 0.0 ? ts / tt : 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      x[i] += alpha * y[i] + omega * z[i];
+      r[i] = s[i] - omega * t[i];
+    }
+    const auto [rr_new, rho_new] = sys.template dots<2>({&r, &r, &rhat, &r});
+    rr = rr_new;
+    rho_prev = rho;
+    rho = rho_new;
+    if (!(omega != 0.0)) break;  // stagnation: the next beta is undefined
   }
-  finish();
+  stats.residual = bb > 0 ? std::sqrt(rr / bb) : 0.0;
+  stats.converged = rr <= target && std::isfinite(rr);
   for (std::size_t i = 0; i < n; ++i)
     if (ps.visc_free[i] > 0.5) ps.v[i] = x[i];
   return stats;
@@ -221,9 +296,11 @@ template struct ViscousOperator<2>;
 template struct ViscousOperator<3>;
 template ViscousSolveStats solve_implicit_viscosity<2>(const SphParams&, double, double, int,
                                                        const NeighborList<2>&, SphParticles<2>&,
+                                                       std::span<const WallSlipLaw>,
                                                        const ViscousSolveHooks&);
 template ViscousSolveStats solve_implicit_viscosity<3>(const SphParams&, double, double, int,
                                                        const NeighborList<3>&, SphParticles<3>&,
+                                                       std::span<const WallSlipLaw>,
                                                        const ViscousSolveHooks&);
 
 }  // namespace sphdem

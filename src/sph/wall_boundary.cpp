@@ -20,8 +20,6 @@
 
 namespace sphdem {
 
-namespace {
-
 // The velocity the resin sees at a dummy particle of velocity vw, at depth
 // d = |s| behind the wall (s: from the particle to the wall surface, along
 // the normal into the resin), given the resin's Shepard mean v~. With
@@ -47,8 +45,6 @@ Vec<D> dummy_velocity(const WallSlipLaw& law, const Vec<D>& vw, const Vec<D>& v_
   const double f = law.type == WallSlip::FreeSlip ? 1.0 : (b - d) / (b + d);
   return vw - r_n + f * (r - r_n);
 }
-
-}  // namespace
 
 template <int D>
 std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEos& eos,
@@ -124,6 +120,8 @@ void compute_fluid_pressure(const TaitEos& eos, SphParticles<D>& ps) {
   }
 }
 
+template Vec<2> dummy_velocity<2>(const WallSlipLaw&, const Vec<2>&, const Vec<2>&, const Vec<2>&);
+template Vec<3> dummy_velocity<3>(const WallSlipLaw&, const Vec<3>&, const Vec<3>&, const Vec<3>&);
 template std::vector<WallFaceSample> compute_wall_state<2>(const SphParams&, const TaitEos&,
                                                            const NeighborList<2>&,
                                                            const std::vector<WallKinematics<2>>&,

@@ -5,16 +5,25 @@
 //   dv_i/dt = sum_j K_ij (v_i - v_j),
 //   K_ij = 2 mu_ij mu_scale / rho_i  m_j / rho_j  F_ij r^2 / (r^2 + eta^2) <= 0,
 // mu_ij the harmonic mean of the two viscosities (a wall neighbour: mu_i),
-// v_j a wall's no-slip (Adami) value. Explicit, it limits the step to
+// v_j a wall's dummy (Adami) value. Explicit, it limits the step to
 // 0.125 h^2 rho / mu. After the second kick the implicit scheme instead
 // solves, over the resin particles that are not frozen (the unknowns),
 //   m_i u_i - dt m_i sum_j K_ij (u_i - u_j) = m_i v_i,
-// with the walls' no-slip values and the frozen particles' velocities held
-// at their values at the start of the solve (known), and the viscosity
-// frozen over the solve. m_i K_ij is symmetric in i and j, so the matrix is
-// symmetric positive definite (diagonally dominant with positive diagonal):
-// Jacobi-preconditioned conjugate gradients (Saad, Iterative Methods for
-// Sparse Linear Systems, 2003, alg. 9.1).
+// where a wall neighbour j shows the dummy value of the solution itself,
+//   u_j = dummy_velocity(law_j, vw_j, sum_k A_jk u_k),  A_jk = W_jk / sum_k W_jk
+// over its resin neighbours k (no-slip: u_j = 2 vw_j - sum_k A_jk u_k), as
+// the explicit term sees it, and the frozen particles keep their velocities
+// (known). The viscosity is frozen over the solve. The resin-resin part is
+// symmetric (m_i K_ij = m_j K_ji), the walls' part is not (A_jk is a Shepard
+// weight); the matrix is strictly diagonally dominant (|A| rows sum to 1, the
+// slip map has norm <= 1): BiCGSTAB (van der Vorst, SIAM J. Sci. Stat.
+// Comput. 13 (1992) 631; Saad, Iterative Methods for Sparse Linear Systems,
+// 2nd ed., SIAM 2003, alg. 7.7) with a Jacobi right preconditioner.
+//
+// Holding the walls' values at those of the rates (before the kick) instead,
+// as this solve did until issue 13 part 3's fix, shows a resin driven by a
+// body force F walls that move at -F dt / 2 at steady state: start-up
+// Poiseuille 13 % slow at dt = 2.5e-5 s (docs/physics.md).
 //
 // Physics never calls MPI: the caller supplies the ghost refresh and the
 // sums over ranks. The dot products are exact sums (sphdem/core/
@@ -61,11 +70,15 @@ struct ViscousOperator {
 
 // Replaces the velocity v of every owned resin particle that is not frozen
 // by the solution u of the system above, starting from u = v. Reads the
-// walls' vwall (current after the rates) and the frozen flag; writes
-// visc_u and visc_free. Collective through the hooks.
+// walls' own velocities v (and wall_to_surface for a slip law) and the
+// frozen flag; wall_slip[k] is the condition of wall k (ps.wall), the
+// others (index -1 or beyond) have sp.mold_wall. Writes visc_u and
+// visc_free. Collective through the hooks.
 template <int D>
 ViscousSolveStats solve_implicit_viscosity(const SphParams& sp, double dt, double tolerance,
                                            int max_iterations, const NeighborList<D>& nl,
-                                           SphParticles<D>& ps, const ViscousSolveHooks& hooks);
+                                           SphParticles<D>& ps,
+                                           std::span<const WallSlipLaw> wall_slip,
+                                           const ViscousSolveHooks& hooks);
 
 }  // namespace sphdem

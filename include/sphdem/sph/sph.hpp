@@ -107,6 +107,15 @@ struct WallKinematics {
   WallThermalLaw thermal;         // its thermal condition (resin.thermal)
 };
 
+// The velocity the resin sees at a dummy wall particle of velocity vw, given
+// the resin's Shepard mean v_mean there and s, the vector from the particle
+// to the wall surface (src/sph/wall_boundary.cpp). Affine in v_mean and vw:
+// vw = 0 gives its linear part (the implicit viscous solve,
+// src/sph/implicit_viscosity.cpp).
+template <int D>
+Vec<D> dummy_velocity(const WallSlipLaw& law, const Vec<D>& vw, const Vec<D>& v_mean,
+                      const Vec<D>& s);
+
 // Dummy-particle walls (Adami, Hu & Adams 2012): every owned wall particle
 // takes pressure, density and a no-slip velocity from its resin neighbors.
 // Fixed walls (index -1) have a pressure floor of 0. Returns the face
