@@ -58,8 +58,8 @@ output: {progress_every: 1000000}
 // The dam-break column without particle shifting and without the pass's
 // fields in the output: only the anti-clump term reads the flag.
 Case dam_break(std::vector<std::string> sets = {}) {
-  sets.insert(sets.begin(), {"numerics.particle_shifting=false",
-                             "output.fields=[velocity, density, pressure]"});
+  sets.insert(sets.begin(),
+              {"numerics.particle_shifting=false", "output.fields=[velocity, density, pressure]"});
   return testing::load_input("validation/dam_break_front.yaml", sets);
 }
 
@@ -110,9 +110,8 @@ FlagCounts expect_flag_of_the_full_pass(const Case& c, int steps) {
     else
       (full.free_surface[i] != 0.0 ? n.read_surface : n.read_interior) += 1;
   }
-  EXPECT_EQ(wrong, 0) << "first at particle " << first << ": P = " << full.p[first]
-                      << ", full " << full.free_surface[first] << ", lite "
-                      << lite.free_surface[first];
+  EXPECT_EQ(wrong, 0) << "first at particle " << first << ": P = " << full.p[first] << ", full "
+                      << full.free_surface[first] << ", lite " << lite.free_surface[first];
   std::printf("[          ] P < 0 on the surface %d, inside %d; P >= 0 %d\n", n.read_surface,
               n.read_interior, n.not_read);
   return n;
