@@ -4,6 +4,9 @@
 # The dam break's rank independence is in test_parallel
 # (RankIndependence.DamBreakFreeSurface).
 sphdem_test(test_free_surface SOURCES test_free_surface.cpp RANKS 1 LABELS validation TIMEOUT 600)
+# The pass for the anti-clump term alone (issue 19): the same flag and the
+# same runs as the full pass (seconds).
+sphdem_test(test_free_surface_flag SOURCES test_free_surface_flag.cpp RANKS 1 TIMEOUT 600)
 
 # Issue 18 (Done when): every free-surface case in inputs/validation/ runs
 # to its end time at artificial viscosity <= 0.02 (docs/validation.md

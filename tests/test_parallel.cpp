@@ -241,6 +241,17 @@ TEST(RankIndependence, DamBreakFreeSurface) {
                              /*expect_migration=*/false);
 }
 
+// The same column without particle shifting: only the anti-clump term
+// reads the free-surface flag, so the pass runs as its Lite (issue 19,
+// src/sph/terms/free_surface.hpp, FreeSurfaceFlag): the flag only where
+// P < 0, forwarded to the ghosts.
+TEST(RankIndependence, DamBreakAntiClumpFlag) {
+  expect_rank_independent<2>(
+      load("validation/dam_break_front.yaml",
+           {"numerics.particle_shifting=false", "output.fields=[velocity, density, pressure]"}),
+      300, /*expect_migration=*/false);
+}
+
 // Temperature (issue 13 part 2): conduction with walls held cold, the
 // dummy wall temperatures on ghosts, and frozen particles; viscous heating
 // reads the shear rate of ghosts.

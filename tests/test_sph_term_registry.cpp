@@ -488,5 +488,35 @@ TEST(SphPasses, TheAntiClumpTermNeedsTheFreeSurface) {
             std::vector<std::string>{"free_surface"});
 }
 
+// The anti-clump term alone runs the pass's Lite (the flag where P < 0);
+// anything else that reads the pass runs the full one (issue 19).
+TEST(SphPasses, TheAntiClumpTermAloneRunsTheFlagOnly) {
+  using terms::PassRun;
+  const auto run = [](const SphParams& sp) {
+    return terms::pass_run<terms::FreeSurfacePass>(sp, SphTerms{});
+  };
+  SphParams sp = base_params();
+  EXPECT_EQ(run(sp), PassRun::Lite);
+  sp.anti_clump_eps = 0.0;  // R_a = 0 everywhere: nothing reads the flag
+  EXPECT_EQ(run(sp), PassRun::Off);
+  sp.anti_clump_eps = 0.2;
+  sp.anti_clump = false;
+  EXPECT_EQ(run(sp), PassRun::Off);
+  sp.anti_clump = true;
+  for (const char* field : {"free_surface", "surface_normal", "position_divergence"}) {
+    sp.output_fields = {"velocity", field};
+    EXPECT_EQ(run(sp), PassRun::Full) << field;
+  }
+  sp.output_fields = {"velocity"};
+  EXPECT_EQ(run(sp), PassRun::Lite);
+  sp.shifting = 2.0;
+  EXPECT_EQ(run(sp), PassRun::Full);
+  sp.shifting = 0.0;
+  sp.front_events = true;
+  EXPECT_EQ(run(sp), PassRun::Full);
+  sp.anti_clump = false;
+  EXPECT_EQ(run(sp), PassRun::Full);
+}
+
 }  // namespace
 }  // namespace sphdem

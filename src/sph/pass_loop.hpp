@@ -17,7 +17,17 @@
 //   template <int D> double finish(const double* sums) const;   // the particle's value
 // and optionally: also_outputs (more snapshot fields it writes), needed(sp)
 // (a step besides the terms needs it), store<D>(sums, ps, i) and clear<D>(ps, i)
-// (more fields from the same sums, and their value on walls).
+// (more fields from the same sums, and their value on walls), and
+//
+//   using Lite = Q;   // a cheaper pass into the same output field
+//
+// run instead of P when nothing asks for P (no active term reads its Output,
+// output.fields does not name it, needed(sp) is false) but Q::needed(sp) does.
+// Q has P's members but name, Output and group (P's are used) and may declare
+//   template <int D> static bool wanted(const SphParams&, const SphParticles<D>&, i);
+// the particles whose value a reader uses; the others get 0 without their sums.
+// The free-surface pass's flag for the anti-clump term alone is such a Lite
+// (terms/free_surface.hpp, FreeSurfaceFlag).
 //
 // The loop is the pair loop's (pair_loop.hpp): records of the declared
 // fields, gathered lanes, a branch-free pair function over a chunk (pairs
@@ -51,9 +61,11 @@ bool term_on(const SphParams& sp) {
     return true;
 }
 
-// Whether pass P runs for a case with the terms of Terms.
+// How pass P runs for a case with the terms of Terms: not at all, itself, or its Lite.
+enum class PassRun { Off, Full, Lite };
+
 template <class P, class... Ts>
-bool pass_needed(const SphParams& sp, TermList<Ts...>) {
+PassRun pass_run(const SphParams& sp, TermList<Ts...>) {
   const auto& out = sp.output_fields;
   const auto named = [&](std::string_view n) {
     return std::find(out.begin(), out.end(), n) != out.end();
@@ -63,7 +75,17 @@ bool pass_needed(const SphParams& sp, TermList<Ts...>) {
   if constexpr (requires { P::also_outputs; })
     for (const char* n : P::also_outputs) requested = requested || named(n);
   if constexpr (requires { P::needed(sp); }) requested = requested || P::needed(sp);
-  return requested || ((reads_v<Ts, typename P::Output> && term_on<Ts>(sp)) || ...);
+  if (requested || ((reads_v<Ts, typename P::Output> && term_on<Ts>(sp)) || ...))
+    return PassRun::Full;
+  if constexpr (requires { typename P::Lite; })
+    if (P::Lite::needed(sp)) return PassRun::Lite;
+  return PassRun::Off;
+}
+
+// Whether pass P (or its Lite) runs for a case with the terms of Terms.
+template <class P, class Terms>
+bool pass_needed(const SphParams& sp, Terms terms) {
+  return pass_run<P>(sp, terms) != PassRun::Off;
 }
 
 // The passes that run for sp, by name, in order (for tests and logs).
@@ -106,7 +128,11 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
   std::vector<double>& out = P::output(ps);
 
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    if (ps.kind[i] != Kind::Fluid) {
+    bool skip = ps.kind[i] != Kind::Fluid;
+    // Optional: only the particles whose value is read (a Lite's wanted).
+    if constexpr (requires { P::template wanted<D>(sp, ps, i); })
+      skip = skip || !P::template wanted<D>(sp, ps, i);
+    if (skip) {
       out[i] = 0.0;
       if constexpr (requires { pass.template clear<D>(ps, i); }) pass.template clear<D>(ps, i);
       continue;
@@ -144,14 +170,22 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
   }
 }
 
-// The passes of Passes that sp needs, in order, each followed by
-// forward(its group).
+// The passes of Passes that sp needs, in order (each itself or its Lite),
+// each followed by forward(its group).
 template <int D, class Terms, class Forward, class... Ps>
 void run_passes(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
                 const Forward& forward, PassList<Ps...>) {
   const auto one = [&]<class P>(P*) {
-    if (!pass_needed<P>(sp, Terms{})) return;
-    run_pass<D, P>(sp, nl, ps);
+    const PassRun how = pass_run<P>(sp, Terms{});
+    if (how == PassRun::Off) return;
+    if constexpr (requires { typename P::Lite; }) {
+      if (how == PassRun::Lite)
+        run_pass<D, typename P::Lite>(sp, nl, ps);
+      else
+        run_pass<D, P>(sp, nl, ps);
+    } else {
+      run_pass<D, P>(sp, nl, ps);
+    }
     forward(P::group);
   };
   (one(static_cast<Ps*>(nullptr)), ...);

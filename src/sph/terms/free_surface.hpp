@@ -11,11 +11,22 @@
 // correction) drives particle shifting (src/sph/particle_shifting.cpp).
 // docs/physics.md, "Free surface". output.fields: free_surface,
 // surface_normal, position_divergence.
+//
+// When only the anti-clump term reads the flag (no shifting, no front
+// events, none of the three fields in output.fields) the pass runs as its
+// Lite, FreeSurfaceFlag: div r alone (no normal, no gradient), and only at
+// the particles where the term reads the flag, those with P < 0 (R_a = 0 at
+// P >= 0 whatever the flag). The flag there is the same bits as the full
+// pass's; elsewhere it is 0 and nothing reads it (docs/performance.md,
+// "The free-surface pass for the anti-clump term"; tests/test_free_surface.cpp,
+// FreeSurfaceFlag.*).
 #include <cmath>
 #include <cstddef>
 #include <vector>
 
 #include "../record_fields.hpp"
+#include "anti_clump.hpp"
+#include "pressure.hpp"
 
 namespace sphdem::terms {
 
@@ -33,6 +44,45 @@ struct FreeSurface : ScalarField {
 };
 }  // namespace field
 
+// This pair's part of div r_i = -sum_j V_j F_ij |x_ij|^2 (one expression for both passes).
+template <class P>
+double position_divergence_part(const P& p) {
+  const double vf = p.lane(field::Vol{}) * p.F;
+  return -vf * p.r2;
+}
+
+// The anti-clump term reads the flag (numerics.anti_clump_at_surface off).
+inline bool anti_clump_reads_surface(const SphParams& sp) {
+  return sp.anti_clump && sp.anti_clump_eps > 0.0 && !sp.anti_clump_at_surface;
+}
+
+// The flag alone, where the anti-clump term reads it: FreeSurfacePass's Lite
+// (pass_loop.hpp), run when nothing else needs the free-surface pass.
+struct FreeSurfaceFlag {
+  using Reads = Fields<field::Pos, field::Vol>;
+  template <int D>
+  static constexpr std::size_t kSums = 1;
+  template <int D>
+  static std::vector<double>& output(SphParticles<D>& ps) {
+    return ps.free_surface;
+  }
+  static bool needed(const SphParams& sp) { return anti_clump_reads_surface(sp); }
+  // R_a (field::AntiClumpR) is 0 whatever the flag unless P < 0: the flag is
+  // computed exactly where it changes R_a.
+  template <int D>
+  static bool wanted(const SphParams& sp, const SphParticles<D>& ps, std::size_t i) {
+    return anti_clump_r(sp.anti_clump_eps, pressure_over_rho2(ps.p[i], ps.rho[i])) != 0.0;
+  }
+  template <class P>
+  void pair(const P& p, double* s) const {
+    s[0] = position_divergence_part(p);
+  }
+  template <int D>
+  double finish(const double* sums) const {
+    return sums[0] < kFreeSurfaceThreshold<D> ? 1.0 : 0.0;
+  }
+};
+
 struct FreeSurfacePass {
   static constexpr const char* name = "free_surface";
   // Its other snapshot fields: asking for one of them runs the pass too.
@@ -46,12 +96,10 @@ struct FreeSurfacePass {
   static std::vector<double>& output(SphParticles<D>& ps) {
     return ps.free_surface;
   }
-  // Particle shifting, the anti-clump term (off at the surface) and the
-  // weld-line detection need it even when no term reads it.
-  static bool needed(const SphParams& sp) {
-    const bool anti_clump = sp.anti_clump && sp.anti_clump_eps > 0.0 && !sp.anti_clump_at_surface;
-    return sp.shifting > 0.0 || anti_clump || sp.front_events;
-  }
+  // Particle shifting and the weld-line detection need it even when no term
+  // reads it; the anti-clump term (off at the surface) needs only its Lite.
+  static bool needed(const SphParams& sp) { return sp.shifting > 0.0 || sp.front_events; }
+  using Lite = FreeSurfaceFlag;
 
   double kw, inv_w_dp;  // W = kw t^4 (1 + 2q); 1 / W(dp)
   template <int D>
@@ -63,7 +111,7 @@ struct FreeSurfacePass {
   void pair(const P& p, double* s) const {
     constexpr int D = P::kDim;
     const double vf = p.lane(field::Vol{}) * p.F;
-    s[0] = -vf * p.r2;
+    s[0] = position_divergence_part(p);
     const double t2 = p.t * p.t;
     const double w_ratio = kw * t2 * t2 * (1.0 + 2.0 * p.q) * inv_w_dp;
     const double w2 = w_ratio * w_ratio;

@@ -1,0 +1,184 @@
+// The free-surface pass for the anti-clump term alone (issue 19,
+// docs/performance.md "The free-surface pass for the anti-clump term"):
+// when nothing but the anti-clump term reads the flag, the pass runs as
+// FreeSurfacePass::Lite (src/sph/terms/free_surface.hpp, FreeSurfaceFlag):
+// div r alone, and only at the particles with P < 0, where the term reads
+// it. These tests hold it to the full pass: the same flag bits there, on a
+// free surface (the dam break), in a channel without one and in 3D, and the
+// same run bitwise. Rank independence: RankIndependence.* in test_parallel
+// (DamBreakAntiClumpFlag, PlateWithPiston).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "../src/sph/pass_loop.hpp"
+#include "../src/sph/sph_terms.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/sph/sph.hpp"
+#include "validation_helpers.hpp"
+
+namespace sphdem {
+namespace {
+
+using terms::PassRun;
+
+RunOptions quiet() {
+  RunOptions opt;
+  opt.write_output = false;
+  return opt;
+}
+
+const Comm& comm() {
+  static const Comm c;
+  return c;
+}
+
+// The bench_sph channel (bench/bench_sph.cpp) at 40 x 16 spacings: periodic
+// in x, walls below and above, a body force, no free surface; anti-clump on.
+Case channel(std::vector<std::string> sets = {}) {
+  const char* text = R"(name: channel
+dimension: 2
+resin: {density: 900, viscosity: 0.1, sound_speed: 50}
+numerics: {spacing: 3.0e-4, h_over_spacing: 1.2, fixed_dt: 1.4e-6, end_time: 1.0, anti_clump: true}
+mold: {wall_layers: 3, shapes: [{box: {min: [0, 0], max: [0.012, 0.0048]}}]}
+fill: [{box: {min: [0, 0], max: [0.012, 0.0048]}}]
+body_force: [1000, 0]
+periodic: [x]
+domain: {min: [0, -0.0012], max: [0.012, 0.006]}
+output: {progress_every: 1000000}
+)";
+  return load_case_from_string(text, "channel.yaml", sets);
+}
+
+// The dam-break column without particle shifting and without the pass's
+// fields in the output: only the anti-clump term reads the flag.
+Case dam_break(std::vector<std::string> sets = {}) {
+  sets.insert(sets.begin(),
+              {"numerics.particle_shifting=false", "output.fields=[velocity, density, pressure]"});
+  return testing::load_input("validation/dam_break_front.yaml", sets);
+}
+
+// The 3D sloshing tank of test_parallel's Sloshing3D (anti-clump on, the default).
+Case sloshing_3d(std::vector<std::string> sets = {}) {
+  sets.insert(sets.begin(), {"initial_velocity=[0.05, 0.02, 0]"});
+  return testing::load_input("validation/hydrostatic_3d.yaml", sets);
+}
+
+struct FlagCounts {
+  int read_surface = 0;   // P < 0 on the surface (flag 1)
+  int read_interior = 0;  // P < 0 inside (flag 0)
+  int not_read = 0;       // P >= 0: the Lite leaves 0
+};
+
+// Advances the case `steps` steps, then runs the full pass and its Lite on
+// the same particles and neighbour lists: the Lite's flag equals the full
+// pass's bit for bit wherever the anti-clump term reads it (P < 0) and is 0
+// elsewhere.
+template <int D>
+FlagCounts expect_flag_of_the_full_pass(const Case& c, int steps) {
+  const SphParams sp = make_sph_params(c);
+  EXPECT_EQ(terms::pass_run<terms::FreeSurfacePass>(sp, terms::SphTerms{}), PassRun::Lite);
+  Simulation<D> sim(c, comm(), quiet());
+  sim.advance(steps);
+  SphParticles<D> full = sim.particles();  // owned and ghosts, as the last step left them
+  SphParticles<D> lite = full;
+  NeighborList<D> nl(2.0 * sp.h, 0.0);
+  nl.build(full);
+  terms::run_pass<D, terms::FreeSurfacePass>(sp, nl, full);
+  std::fill(lite.free_surface.begin(), lite.free_surface.end(), -1.0);
+  terms::run_pass<D, terms::FreeSurfaceFlag>(sp, nl, lite);
+  FlagCounts n;
+  int wrong = 0;  // owned particles where the Lite is not what it should be
+  std::size_t first = 0;
+  for (std::size_t i = 0; i < full.n_owned; ++i) {
+    if (full.kind[i] != Kind::Fluid) {
+      EXPECT_EQ(lite.free_surface[i], 0.0);
+      continue;
+    }
+    const bool read = full.p[i] < 0.0;  // field::AntiClumpR is not 0 (epsilon > 0)
+    const double expected = read ? full.free_surface[i] : 0.0;
+    const bool ok =
+        terms::FreeSurfaceFlag::wanted<D>(sp, full, i) == read && lite.free_surface[i] == expected;
+    if (!ok && wrong++ == 0) first = i;
+    if (!read)
+      ++n.not_read;
+    else
+      (full.free_surface[i] != 0.0 ? n.read_surface : n.read_interior) += 1;
+  }
+  EXPECT_EQ(wrong, 0) << "first at particle " << first << ": P = " << full.p[first] << ", full "
+                      << full.free_surface[first] << ", lite " << lite.free_surface[first];
+  std::printf("[          ] P < 0 on the surface %d, inside %d; P >= 0 %d\n", n.read_surface,
+              n.read_interior, n.not_read);
+  return n;
+}
+
+TEST(FreeSurfaceFlag, SameFlagAsTheFullPassOnTheDamBreak) {
+  // 300 steps: the column slumps, its corner thins into tension.
+  const FlagCounts n = expect_flag_of_the_full_pass<2>(dam_break(), 300);
+  EXPECT_GT(n.read_surface, 0);
+  EXPECT_GT(n.read_interior, 0);
+  EXPECT_GT(n.not_read, 0);
+}
+
+TEST(FreeSurfaceFlag, SameFlagAsTheFullPassInAChannel) {
+  // Here every resin particle is in tension (P < 0) after 300 steps: the
+  // Lite computes every flag, all 0.
+  const FlagCounts n = expect_flag_of_the_full_pass<2>(channel(), 300);
+  EXPECT_EQ(n.read_surface, 0);  // no free surface
+  EXPECT_GT(n.read_interior, 0);
+}
+
+TEST(FreeSurfaceFlag, SameFlagAsTheFullPassIn3D) {
+  const FlagCounts n = expect_flag_of_the_full_pass<3>(sloshing_3d(), 100);
+  EXPECT_GT(n.read_surface, 0);
+  EXPECT_GT(n.read_interior + n.not_read, 0);
+}
+
+// The same case with the Lite (the default) and with the full pass (asked for
+// by output.fields, which changes nothing else): the same bits after `steps`.
+template <int D>
+void expect_same_run(const Case& lite_case, const Case& full_case, int steps) {
+  EXPECT_EQ(terms::pass_run<terms::FreeSurfacePass>(make_sph_params(lite_case), terms::SphTerms{}),
+            PassRun::Lite);
+  EXPECT_EQ(terms::pass_run<terms::FreeSurfacePass>(make_sph_params(full_case), terms::SphTerms{}),
+            PassRun::Full);
+  Simulation<D> a(lite_case, comm(), quiet());
+  Simulation<D> b(full_case, comm(), quiet());
+  a.advance(steps);
+  b.advance(steps);
+  const SphParticles<D>& pa = a.particles();
+  const SphParticles<D>& pb = b.particles();
+  ASSERT_FALSE(pb.position_divergence.empty());  // the full pass ran
+  ASSERT_EQ(pa.n_owned, pb.n_owned);
+  std::map<std::int64_t, std::size_t> at;
+  for (std::size_t i = 0; i < pb.n_owned; ++i) at[pb.gid[i]] = i;
+  int fluid = 0;
+  for (std::size_t i = 0; i < pa.n_owned; ++i) {
+    const std::size_t j = at.at(pa.gid[i]);
+    ASSERT_EQ(pa.rho[i], pb.rho[j]) << "id " << pa.gid[i];
+    ASSERT_EQ(pa.p[i], pb.p[j]) << "id " << pa.gid[i];
+    for (int d = 0; d < D; ++d) {
+      ASSERT_EQ(pa.x[i][d], pb.x[j][d]) << "id " << pa.gid[i];
+      ASSERT_EQ(pa.v[i][d], pb.v[j][d]) << "id " << pa.gid[i];
+    }
+    fluid += pa.kind[i] == Kind::Fluid;
+  }
+  EXPECT_GT(fluid, 100);
+}
+
+TEST(FreeSurfaceFlag, DamBreakRunIsBitwiseTheFullPasses) {
+  expect_same_run<2>(dam_break(), dam_break({"output.fields=[velocity, position_divergence]"}),
+                     300);
+}
+
+TEST(FreeSurfaceFlag, ChannelRunIsBitwiseTheFullPasses) {
+  expect_same_run<2>(channel(), channel({"output.fields=[velocity, position_divergence]"}), 300);
+}
+
+}  // namespace
+}  // namespace sphdem
