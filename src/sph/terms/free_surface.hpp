@@ -46,11 +46,12 @@ struct FreeSurfacePass {
   static std::vector<double>& output(SphParticles<D>& ps) {
     return ps.free_surface;
   }
-  // Particle shifting, the anti-clump term (off at the surface) and the
-  // weld-line detection need it even when no term reads it.
+  // Particle shifting, the anti-clump term (off at the surface), the
+  // weld-line detection and the surface's viscous traction need it even
+  // when no term reads it.
   static bool needed(const SphParams& sp) {
     const bool anti_clump = sp.anti_clump && sp.anti_clump_eps > 0.0 && !sp.anti_clump_at_surface;
-    return sp.shifting > 0.0 || anti_clump || sp.front_events;
+    return sp.shifting > 0.0 || anti_clump || sp.front_events || sp.free_surface_traction;
   }
 
   double kw, inv_w_dp;  // W = kw t^4 (1 + 2q); 1 / W(dp)
