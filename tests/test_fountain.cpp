@@ -275,9 +275,9 @@ double slope(const std::vector<double>& t, const std::vector<double>& y) {
 // travels 26 mm = 6.5 W), sampled every 0.05 s from 0.5 s (the front's
 // shape settles within about one W of travel, 0.4 s).
 // (a) The front advances at the mean velocity U (mass conservation with a
-//     front of steady shape). Bound 10 %: see docs/validation.md "Fountain
-//     flow" for the measured excess (the particles spread without their
-//     density following, about 7 %).
+//     front of steady shape). Bound 10 %: the measured excess is 6.4 % (tip;
+//     contact 4.2 %), the particles spreading without their density following
+//     (an open defect, docs/validation.md section 17), with margin.
 // (b) Fountain kinematics: the centre-line particles of the initial front
 //     (its two columns, either side of the centre line) reach the front's
 //     stagnation point, turn and are laid on the walls: at the end each is
