@@ -276,7 +276,7 @@ double slope(const std::vector<double>& t, const std::vector<double>& y) {
 // shape settles within about one W of travel, 0.4 s).
 // (a) The front advances at the mean velocity U (mass conservation with a
 //     front of steady shape). Bound 10 %: the measured excess is 6.4 % (tip;
-//     contact 4.2 %), the particles spreading without their density following
+//     contact 5.1 %), the particles spreading without their density following
 //     (an open defect, docs/validation.md section 17), with margin.
 // (b) Fountain kinematics: the centre-line particles of the initial front
 //     (its two columns, either side of the centre line) reach the front's
