@@ -2,12 +2,11 @@
 // docs/physics.md "Viscous traction at the free surface"). The Morris term
 // (terms/viscosity_morris.hpp) of a particle whose kernel support is cut by
 // the free surface acts, for a velocity field with gradient G_ab =
-// dv_a/dx_b, as
-//   a_i = (2 mu / rho_i) G g_i,   g_i = (mu_scale / grad_scale) sum_j V_j F_ij x_ij r^2 / (r^2 +
-//   eta^2),
-// with g_i (the Morris weight's colour gradient) zero inside the resin and
-// pointing into it at the surface: it drives the normal derivative of the
-// velocity, G n, to zero (Colagrossi et al. 2009, Phys. Rev. E 79:056701).
+// dv_a/dx_b, as a_i = (2 mu / rho_i) G g_i with
+//   g_i = (mu_scale / grad_scale) sum_j V_j F_ij x_ij r^2 / (r^2 + eta^2),
+// the Morris weight's colour gradient: zero inside the resin, pointing into
+// it at the surface. It drives the normal derivative of the velocity, G n,
+// to zero (tests/test_fountain.cpp, SurfaceTraction.*, by hand).
 // The stress-free surface of a Newtonian liquid needs the traction
 // mu (G + G^T) n to vanish instead; the symmetric stress form
 // sum_j m_j (tau_i / rho_i^2 + tau_j / rho_j^2) . grad W_ij, which the
