@@ -192,6 +192,19 @@ void check_fixed_dt(const Map& m, Numerics& n, Context& ctx) {
   }
 }
 
+// The free surface's viscous traction is an explicit term, with the explicit
+// term's step limit: with the implicit solve's larger step it would be
+// unstable (docs/physics.md "Viscous traction at the free surface").
+void check_numerics(const Map& m, Numerics& n, Context& ctx) {
+  check_fixed_dt(m, n, ctx);
+  if (n.free_surface_traction && n.viscous_integration == ViscousIntegration::Implicit) {
+    m.require("free_surface_traction")
+        .fail(
+            "needs numerics.viscous_integration: explicit (the traction is an explicit "
+            "viscous term)");
+  }
+}
+
 Key<Numerics> viscosity_model() {
   Key<Numerics> k{"viscosity_model",
                   "enum",
@@ -299,6 +312,12 @@ Section<Numerics> make_numerics() {
                   "a short-range repulsion of the wall particles on resin closer than 0.9 dp "
                   "(Monaghan 1994): no resin crosses a wall in an impact; see `docs/physics.md`")
               .identity()),
+      unless_default(
+          boolean("free_surface_traction", &N::free_surface_traction,
+                  "at free-surface particles, add the (grad v)^T part of the viscous stress "
+                  "that the Morris term lacks there, so the surface is traction-free (a "
+                  "fountain front); explicit viscosity only; see `docs/physics.md`")
+              .identity()),
       number("neighbor_skin", "", in_range(0, 1, kClosed, kOpen), &N::neighbor_skin,
              "Verlet skin as a fraction of the support 2h")
           .identity(),
@@ -308,7 +327,7 @@ Section<Numerics> make_numerics() {
               "`docs/physics.md`")
           .identity(),
   };
-  s.finish = check_fixed_dt;
+  s.finish = check_numerics;
   s.intro = "h below is the smoothing length, `h_over_spacing * spacing`.\n";
   s.notes =
       "Without `fixed_dt` the step adapts (the minimum of the three limits above).\n"

@@ -34,6 +34,7 @@ SphParams make_sph_params(const Case& c) {
   sp.eta2 = 0.01 * sp.h * sp.h;
   sp.shifting = c.numerics.particle_shifting ? c.numerics.shifting_coefficient : 0.0;
   sp.wall_repulsion = c.numerics.wall_repulsion;
+  sp.free_surface_traction = c.numerics.free_surface_traction;
   sp.body_force = c.body_force;
   sp.mold_wall = resolve_wall_slip(c.mold, c.mold);
   sp.surface_tension = c.resin.surface_tension;

@@ -105,6 +105,9 @@ struct Numerics {
   double shifting_coefficient = 2.0;
   // Monaghan (1994) repulsive force of the wall particles on the resin.
   bool wall_repulsion = true;
+  // The viscous traction at the free surface: the (grad v)^T part the
+  // Morris term lacks there (src/sph/surface_traction.cpp).
+  bool free_surface_traction = false;
   double neighbor_skin = 0.1;  // Verlet skin as a fraction of the support 2h
 };
 

@@ -48,6 +48,7 @@ struct SphParams {
   double eta2 = 0;                     // 0.01 h^2, keeps 1/r^2 terms finite
   double shifting = 0;                 // particle shifting coefficient A (0: off)
   bool wall_repulsion = false;         // Monaghan (1994) wall force (wall_repulsion.cpp)
+  bool free_surface_traction = false;  // the surface's viscous traction (surface_traction.cpp)
   Vec3a body_force{};
   WallSlipLaw mold_wall;  // the condition of the fixed mold walls (wall index -1)
   // Surface tension (src/sph/terms/surface_tension.hpp): sigma [N/m], 0 = off;
@@ -159,6 +160,13 @@ void shift_particles(const SphParams& sp, double dt, SphParticles<D>& ps);
 // added to the accelerations; compute_fluid_rates calls it when sp.wall_repulsion.
 template <int D>
 void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps);
+
+// The viscous traction at the free surface (src/sph/surface_traction.cpp):
+// at the particles the free-surface pass flags, the (grad v)^T part of the
+// stress that the Morris term lacks there, added to the accelerations;
+// compute_fluid_rates calls it when sp.free_surface_traction.
+template <int D>
+void add_free_surface_traction(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps);
 
 // Temperature (docs/physics.md "Temperature"), with sp.thermal only.
 // Conduction in the pairwise form of Cleary & Monaghan (1999, JCP 148:227),

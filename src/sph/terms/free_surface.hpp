@@ -96,9 +96,12 @@ struct FreeSurfacePass {
   static std::vector<double>& output(SphParticles<D>& ps) {
     return ps.free_surface;
   }
-  // Particle shifting and the weld-line detection need it even when no term
-  // reads it; the anti-clump term (off at the surface) needs only its Lite.
-  static bool needed(const SphParams& sp) { return sp.shifting > 0.0 || sp.front_events; }
+  // Particle shifting, the weld-line detection and the surface's viscous
+  // traction need it even when no term reads it; the anti-clump term (off at
+  // the surface) needs only its Lite.
+  static bool needed(const SphParams& sp) {
+    return sp.shifting > 0.0 || sp.front_events || sp.free_surface_traction;
+  }
   using Lite = FreeSurfaceFlag;
 
   double kw, inv_w_dp;  // W = kw t^4 (1 + 2q); 1 / W(dp)
