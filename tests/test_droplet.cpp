@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "sphdem/config/config.hpp"
 #include "validation_helpers.hpp"
@@ -195,6 +196,142 @@ TEST(Droplet, ContactAngle90OnTheNeutralWall) {
 
 TEST(Droplet, ContactAngle60SpreadsToIt) {
   EXPECT_NEAR(cap_at(60.0, 0.01).angle_deg, 60.0, 5.0);
+}
+
+// --- holding the angle (issue 18: the angle held to 30 ms, no break-up) ----------
+
+// The circular cap of contact angle theta whose area is the half disc's,
+// pi R^2 / 2 with R = 1 mm: its radius R_c from R_c^2 (theta - sin theta
+// cos theta) = pi R^2 / 2, its base half-width a = R_c sin theta.
+struct Cap {
+  double radius, half_base;
+};
+Cap equilibrium_cap(double theta_deg) {
+  const double t = theta_deg * kPi / 180.0, r = 1e-3;
+  const double rc = std::sqrt(0.5 * kPi * r * r / (t - std::sin(t) * std::cos(t)));
+  return {rc, rc * std::sin(t)};
+}
+
+// That cap as a fill polygon (48 chords, the base on the floor y = 0).
+std::string cap_fill(double theta_deg) {
+  const double t = theta_deg * kPi / 180.0;
+  const Cap cap = equilibrium_cap(theta_deg);
+  const double yc = -cap.radius * std::cos(t);
+  std::string poly = "fill=[{polygon: [";
+  constexpr int kChords = 48;
+  for (int k = 0; k <= kChords; ++k) {
+    const double a = 0.5 * kPi - t + 2.0 * t * k / kChords;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%s[%.6e, %.6e]", k ? ", " : "", cap.radius * std::cos(a),
+                  std::max(0.0, yc + cap.radius * std::sin(a)));
+    poly += buf;
+  }
+  return poly + "]}]";
+}
+
+// The number of pieces of the resin: particles closer than 1.6 dp are
+// linked (a lattice's neighbours are 1 and 1.41 dp apart).
+std::size_t pieces(const SphParticles<2>& ps, double dp) {
+  std::vector<int> label(ps.n_owned, -1);
+  std::size_t n = 0;
+  for (std::size_t s = 0; s < ps.n_owned; ++s) {
+    if (label[s] >= 0 || ps.kind[s] != Kind::Fluid) continue;
+    std::vector<std::size_t> stack{s};
+    label[s] = static_cast<int>(n);
+    while (!stack.empty()) {
+      const std::size_t i = stack.back();
+      stack.pop_back();
+      for (std::size_t j = 0; j < ps.n_owned; ++j)
+        if (label[j] < 0 && ps.kind[j] == Kind::Fluid && (ps.x[j] - ps.x[i]).norm() < 1.6 * dp) {
+          label[j] = static_cast<int>(n);
+          stack.push_back(j);
+        }
+    }
+    ++n;
+  }
+  return n;
+}
+
+// The farthest resin particle of the floor row (y < dp) from the resin's
+// centroid, along the floor.
+double floor_reach(const SphParticles<2>& ps, double dp) {
+  const double xc = centroid(ps)[0];
+  double far = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i)
+    if (ps.kind[i] == Kind::Fluid && ps.x[i][1] < dp)
+      far = std::max(far, std::abs(ps.x[i][0] - xc));
+  return far;
+}
+
+// Run droplet_wall_2d at theta (from the half disc, or from the cap of
+// theta with from_cap) to 30 ms; over 20-30 ms, every 0.5 ms: the cap
+// angle (mean, min, max), whether the resin is one piece and whether its
+// floor row stays within a + 2 dp of the centre (a the cap's half-base).
+struct Held {
+  double mean_deg = 0, min_deg = 1e300, max_deg = -1e300;
+  bool one_piece = true;
+  double reach_over = -1e300;  // the largest floor reach minus (a + 2 dp), in dp
+};
+Held hold(double theta_deg, bool from_cap) {
+  std::vector<std::string> sets{"mold.contact_angle=" + std::to_string(theta_deg)};
+  if (from_cap) sets.push_back(cap_fill(theta_deg));
+  const Case c = testing::load_input("validation/droplet_wall_2d.yaml", sets);
+  const double dp = c.numerics.spacing;
+  const double a = equilibrium_cap(theta_deg).half_base;
+  Simulation<2> sim(c, comm(), quiet());
+  Held held;
+  int n = 0;
+  for (int k = 0; k <= 20; ++k) {
+    testing::run_until(sim, 0.020 + 0.0005 * k);
+    const CapShape cap = cap_shape(sim.particles(), dp);
+    held.mean_deg += cap.angle_deg;
+    held.min_deg = std::min(held.min_deg, cap.angle_deg);
+    held.max_deg = std::max(held.max_deg, cap.angle_deg);
+    held.one_piece = held.one_piece && pieces(sim.particles(), dp) == 1;
+    held.reach_over =
+        std::max(held.reach_over, (floor_reach(sim.particles(), dp) - a - 2.0 * dp) / dp);
+    ++n;
+  }
+  held.mean_deg /= n;
+  std::printf(
+      "[          ] contact angle %.0f from the %s, 20-30 ms: cap angle mean %.2f, %.2f-%.2f "
+      "degrees, one piece %s, floor reach - (a + 2 dp) at most %.2f dp\n",
+      theta_deg, from_cap ? "cap" : "half disc", held.mean_deg, held.min_deg, held.max_deg,
+      held.one_piece ? "yes" : "no", held.reach_over);
+  return held;
+}
+
+// The cap's angle from H and a moves by about 4 degrees at 120 when the
+// floor row's span changes by one particle (a = 11 dp), hence the mean
+// over 20-30 ms. Started from the cap of the prescribed angle, the droplet
+// holds it: the contact angle's equilibrium is right (measured 59.8-60.0 at
+// 60 and 115.2-116.7 at 120 over 20-30 ms; 114.3-120.7 at 120 to 80 ms).
+TEST(Droplet, ContactAngle60HeldFromItsCap) {
+  const Held held = hold(60.0, true);
+  EXPECT_NEAR(held.mean_deg, 60.0, 5.0);
+  EXPECT_TRUE(held.one_piece);
+  EXPECT_LE(held.reach_over, 0.0);
+}
+
+TEST(Droplet, ContactAngle120HeldFromItsCap) {
+  const Held held = hold(120.0, true);
+  EXPECT_NEAR(held.mean_deg, 120.0, 5.0);
+  EXPECT_TRUE(held.one_piece);
+  EXPECT_LE(held.reach_over, 0.0);
+}
+
+// Issue 18's goal: from the half disc, the droplet settles within 5
+// degrees of the prescribed angle and holds it to 30 ms in one piece. At 60
+// degrees it holds since the bulk filter of the normals (kBulkColour):
+// 56.6-60.4 degrees over 20-30 ms (before it, the droplet broke up near 15
+// ms: voids opened inside it at clumped particles that had a normal).
+TEST(Droplet, ContactAngle60) {
+  const Held held = hold(60.0, false);
+  EXPECT_NEAR(held.mean_deg, 60.0, 5.0);
+  EXPECT_NEAR(held.min_deg, 60.0, 5.0);
+  EXPECT_NEAR(held.max_deg, 60.0, 5.0);
+  EXPECT_TRUE(held.one_piece);
+  EXPECT_LE(held.reach_over, 0.0);
 }
 
 // A 3D droplet as fill boxes, one per lattice row of nodes within the

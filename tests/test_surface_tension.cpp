@@ -10,6 +10,7 @@
 #include <numbers>
 #include <string>
 
+#include "../src/sph/terms/surface_tension.hpp"
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
@@ -106,6 +107,40 @@ TEST(SurfaceTension, NormalAndCurvatureOfADisc) {
               sum / with_normal);
   EXPECT_GT(with_normal, 150);
   EXPECT_NEAR(sum / with_normal, 1.0, 0.05);
+}
+
+// The bulk filter (kBulkColour): a particle inside the resin pushed 0.3 dp
+// toward its neighbour has a colour gradient above Morris's threshold and a
+// colour above 1 (both summed here by hand); it gets no normal and no
+// curvature, so no surface force. Its neighbours on the far side, with a
+// colour below 1, may keep theirs, but the disc's surface rows are as
+// before (NormalAndCurvatureOfADisc).
+TEST(SurfaceTension, NoNormalInAClumpInsideTheResin) {
+  SphParticles<2> ps = lattice_disc();
+  const SphParams sp = disc_params(1.5);
+  std::size_t c = 0;  // the particle nearest the centre
+  for (std::size_t i = 0; i < ps.n_owned; ++i)
+    if (ps.x[i].norm() < ps.x[c].norm()) c = i;
+  ps.x[c][0] += 0.3 * kDp;
+  NeighborList<2> nl(2.0 * sp.h, 0.2 * sp.h);
+  nl.build(ps);
+  compute_fluid_passes<2>(sp, nl, ps, [](SphGroup) {});
+  const WendlandC2<2> kernel(sp.h);
+  Vec<2> g = Vec<2>::Zero();
+  double colour = 0;
+  for (std::size_t j = 0; j < ps.n_owned; ++j) {
+    const Vec<2> xij = ps.x[c] - ps.x[j];
+    const double r = xij.norm();
+    if (r >= 2 * sp.h) continue;
+    colour += ps.mass[j] / ps.rho[j] * kernel.w(r);
+    if (j != c) g += ps.mass[j] / ps.rho[j] * kernel.f(r) * sp.grad_scale * xij;
+  }
+  std::printf("[          ] clumped particle: colour %.4f, |g| h %.3f\n", colour, g.norm() * sp.h);
+  EXPECT_NEAR(ps.colour[c], colour, 1e-12);
+  ASSERT_GE(colour, terms::kBulkColour);
+  ASSERT_GE(g.norm() * sp.h, terms::kNormalThreshold);
+  EXPECT_EQ(ps.csf_normal[c], Vec<2>::Zero());
+  EXPECT_EQ(ps.curvature[c], 0.0);
 }
 
 // The pair loop's bracket -2 sigma kappa_i / (rho_i rho_j) gives

@@ -8,7 +8,8 @@
 //   1. colour gradient  g_i = sum_j V_j grad W_ij (points into the resin),
 //      Shepard colour c_i = sum_j V_j W_ij (i included);
 //      unit outward normal n_i = -g_i / |g_i| where |g_i| h >= kNormalThreshold
-//      (Morris 2000's filter of unreliable normals), else n_i = 0;
+//      (Morris 2000's filter of unreliable normals) and c_i < kBulkColour (a
+//      full support is bulk), else n_i = 0;
 //   2. curvature  kappa_i = (D - 1) sum_j w_j V_j (n_j - n_i).grad W_ij
 //                             / sum_j w_j V_j (-F_ij) (|x_ij|^2 - (x_ij.n_i)^2),
 //      w_j = 1 for a neighbour with a normal: the divergence of n renormalised
@@ -40,6 +41,13 @@ namespace sphdem::terms {
 
 // |g| h below which a normal is unreliable (interior noise).
 inline constexpr double kNormalThreshold = 0.05;
+// The Shepard colour (walls counted as resin) at and above which a particle
+// has no normal: that of a full support. A flat surface gives a normal only
+// down to the depth where its colour is 0.990 (|g| h = kNormalThreshold at
+// 1.23 h); a particle in a clump inside the resin has a colour above 1 and a
+// gradient above the threshold, whose curvature and force opened voids
+// (docs/physics.md "Surface tension").
+inline constexpr double kBulkColour = 1.0;
 
 namespace field {
 // The unit outward normal (0 where unreliable); the neighbour's value.
@@ -184,7 +192,10 @@ struct SurfaceNormalPass {
     Vec<D> g;
     for (int d = 0; d < D; ++d) g[d] = sums[d];
     const double norm = g.norm();
-    ps.csf_normal[i] = norm >= threshold ? Vec<D>(-g / norm) : Vec<D>::Zero();
+    // A full support (colour at least kBulkColour) is not at a free surface:
+    // its gradient is the disorder of the bulk, not a normal.
+    const bool bulk = ps.colour[i] >= kBulkColour;
+    ps.csf_normal[i] = norm >= threshold && !bulk ? Vec<D>(-g / norm) : Vec<D>::Zero();
   }
   template <int D>
   void clear(SphParticles<D>& ps, std::size_t i) const {
