@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "sphdem/geometry/geometry.hpp"
+#include "sphdem/io/checkpoint.hpp"
 #include "sphdem/parallel/decomposition.hpp"
 #include "sphdem/particles/dem_particles.hpp"
 #include "sphdem/particles/particles.hpp"
@@ -71,6 +72,18 @@ double sph_field_bytes(const Case& c) {
   return registry_bytes(ps);
 }
 
+// Bytes per SPH particle of a checkpoint's rows: the checkpointed fields the
+// case holds, and the positions at the neighbour list's build
+// (src/solver/simulation_checkpoint.cpp).
+template <int D>
+double sph_checkpoint_row_bytes(const Case& c) {
+  SphParticles<D> ps;
+  drop_unused_fields<D>(make_sph_params(c), any_slip_wall(c), ps);
+  double bytes = D * sizeof(double);
+  for (const CheckpointColumn& col : checkpoint_columns(ps)) bytes += col.row_bytes;
+  return bytes;
+}
+
 // Cells of a grid over `lo`..`hi` whose cells are at least `cell` wide.
 template <int D>
 double grid_cells(const Vec<D>& lo, const Vec<D>& hi, double cell) {
@@ -93,6 +106,13 @@ constexpr double kProcessBytes = 38.0 * 1024 * 1024;
 // fields were held only when used (docs/scaling.md, "Memory per rank",
 // where 2, 4 and 8 ranks are within 20 % of it).
 constexpr double kSphOverhead = 1.35;
+// Writing a checkpoint, which any run may do (a cadence, a signal, its last
+// state when it fails), holds a rank's rows about three times over on top
+// of the running fields: the columns, then the send and receive buffers
+// that regroup them by id range (src/io/checkpoint_writer.cpp). Measured:
+// 2.83 x the checkpoint's bytes for the 2 M box at 1 rank, 2.66 x for the
+// coarse 3D plate (docs/scaling.md, "Memory per rank").
+constexpr double kCheckpointCopies = 2.8;
 // The fibers' part, measured against `sphdem check`'s peak resident size
 // before the resin's calibration (allocator slack, pair-list growth).
 constexpr double kDemOverhead = 1.6;
@@ -143,6 +163,7 @@ CaseSize estimate(const Case& c, int ranks) {
     // sum per owned particle (src/sph/implicit_viscosity.cpp).
     if (c.numerics.viscous_integration == ViscousIntegration::Implicit)
       sph_run += owned * (2.0 * neighbours + 10.0 * D + 2.0) * sizeof(double);
+    sph_run += kCheckpointCopies * owned * sph_checkpoint_row_bytes<D>(c);
   }
   if (c.fibers) {
     const FiberSettings& f = *c.fibers;
