@@ -10,6 +10,8 @@ peer, side by side") without the real codes: no timings are taken here.
     their arguments) alternates sphdem, LAMMPS continuity, LAMMPS summation
     in every round, passes --set on to sphdem, and prints one table row per
     case and rank count with a median and range per ratio;
+  - the DEM decks (bpm4800 with a bench_dem stand-in) alternate with the
+    BPM deck and print a row per rank count and sphdem's speed-up;
   - sphdem runs with the shipped cases' delta-SPH unless --bare;
   - a mirror without the .dsc (apt-get source fails after downloading the
     tarballs, stand-ins for apt-get and cmake): the tarballs are unpacked,
@@ -96,6 +98,36 @@ expect(all("--set numerics.delta_sph=0.1" in c for c in calls if c.startswith("s
 expect(all("-var nsteps 10" in c for c in calls if c.startswith("lammps")), "--steps reaches the peer")
 row = re.search(r"^\| 21k \| 1 \| 2 \|( [0-9.]+ \([0-9.]+-[0-9.]+\) \|){3}$", r.stdout, re.M)
 expect(row is not None, "one table row: median (min-max) of three ratios")
+
+# The DEM decks: bench_dem against the BPM deck, alternating, at two rank
+# counts, with sphdem's speed-up between them.
+fake_dem = os.path.join(work, "bench_dem")
+with open(fake_dem, "w") as f:
+    f.write(f'#!/bin/sh\necho "sphdem_dem $*" >> {log}\n')
+os.chmod(fake_dem, 0o755)
+open(log, "w").close()
+r = run("--cases", "bpm4800", "--ranks", "1 2", "--rounds", "2", "--dem-steps", "30",
+        "--bench-dem", fake_dem, "--out", os.path.join(work, "dem"),
+        env={"LMP": fake_lmp, "PATH": "/usr/bin:/bin"})
+print(r.stdout, r.stderr)
+expect(r.returncode == 0, "a DEM run with stand-ins exits 0")
+calls = open(log).read().splitlines()
+order = ["sphdem" if c.startswith("sphdem_dem") else "bpm" for c in calls]
+# mpirun -n 2 starts each stand-in twice
+expect(order == ["sphdem", "bpm"] * 2 + ["sphdem", "sphdem", "bpm", "bpm"] * 2,
+       f"DEM rounds alternate: {order}")
+expect(all("--dim 3 --fibers 4800 --steps 30" in c for c in calls if c.startswith("sphdem")),
+       "bench_dem gets the deck's fibers and --dem-steps")
+expect(all("-in in.bpm_fibers_3d -var nfx 20 -var nfy 20 -var nfz 12 -var nsteps 30" in c
+           for c in calls if c.startswith("lammps")), "the BPM deck gets the 4800 lattice")
+expect(re.search(r"^\| bpm4800 \| 2 \| 2 \| [0-9.]+ \([0-9.]+-[0-9.]+\) \|$", r.stdout, re.M)
+       is not None, "one DEM table row per rank count")
+expect(re.search(r"^\| bpm4800 \| 2: [0-9.]+ \([0-9.]+-[0-9.]+\) \|$", r.stdout, re.M) is not None,
+       "sphdem's speed-up from 1 to 2 ranks")
+r = run("--cases", "21k bpm9", "--dry-run", "--lmp", fake_lmp)
+expect(r.returncode == 2 and "bpm9" in r.stderr, "an unknown case exits 2 naming it")
+r = run("--dem-steps", "-3")
+expect(r.returncode == 2 and "--dem-steps" in r.stderr, "--dem-steps -3 exits 2 naming the option")
 
 # The shipped cases' physics by default (delta-SPH), none with --bare.
 r = run("--dry-run", "--cases", "21k", "--ranks", "1", "--rounds", "1", "--lmp", fake_lmp)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# sphdem against its LAMMPS peer on the 2D channel (issue 19,
+# sphdem against its LAMMPS peer on the 2D channel and the BPM fiber decks (issue 19,
 # docs/performance.md "Against the peer, side by side"): the two codes
 # alternate in every round (hyperfine, one run of each command per round),
 # so both see the same machine load, and the ratio of each round is what
@@ -8,13 +8,16 @@ set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 DECK="$ROOT/bench/peers/lammps/in.sph_poiseuille_2d"
+DEM_DECK_DIR="$ROOT/bench/peers/lammps"  # in.bpm_fibers_3d reads fiber4.mol from its directory
 PEER_DIR="$ROOT/build/peers/lammps"
 BENCH="$ROOT/build/release/bench/bench_sph"
+BENCH_DEM="$ROOT/build/release/bench/bench_dem"
 LMP="${LMP:-}"
 CASES="21k 99k"
 RANKS="1 2"
 ROUNDS=5
 STEPS=2000
+DEM_STEPS=4000
 OUT="$ROOT/out/bench_vs_lammps"
 DRY=0
 BUILD_PEER=0
@@ -33,15 +36,22 @@ summation) alternating, one run of each per round, with hyperfine, and
 prints per case and rank count the median and range over the rounds of
   sphdem wall time / LAMMPS wall time
 for each peer density mode and for the faster of the two (whole process).
+The DEM cases bpm175 and bpm4800 alternate bench/bench_dem.cpp (--dim 3)
+with the BPM deck bench/peers/lammps/in.bpm_fibers_3d the same way and print
+sphdem / LAMMPS BPM wall time; with more than one rank count, every case
+also prints sphdem's speed-up from the first rank count to each other
+(median and range of the per-round ratios of its wall times).
 Quote only ratios measured this way: a figure divided by another day's
 peer number is not comparable (bench/peers/lammps/README.md).
 
 options:
   --cases "21k 99k"    channels: 21k = 320 x 60 (21,120 particles with walls),
-                       99k = 720 x 132 (99,360)                [$CASES]
+                       99k = 720 x 132 (99,360); DEM decks: bpm175 (5 x 5 x 7
+                       fibers of 4 spheres), bpm4800 (20 x 20 x 12) [$CASES]
   --ranks "1 2"        MPI rank counts                          [$RANKS]
   --rounds N           alternating rounds per case and rank count [$ROUNDS]
-  --steps N            steps of both codes                      [$STEPS]
+  --steps N            steps of both codes, channels            [$STEPS]
+  --dem-steps N        sub-steps of both codes, DEM decks        [$DEM_STEPS]
   --set KEY=VALUE      a case-file override for sphdem (repeatable), added to
                        the defaults: ${DEFAULT_SETS[*]} (with bench_sph's
                        anti-clump and Morris viscosity, the physics of the
@@ -49,6 +59,7 @@ options:
   --bare               drop the default overrides (the peer deck's physics
                        plus anti-clump, as measured before issue 19)
   --bench PATH         sphdem's bench_sph           [build/release/bench/bench_sph]
+  --bench-dem PATH     sphdem's bench_dem           [build/release/bench/bench_dem]
   --lmp PATH           the LAMMPS executable (also \$LMP; else lmp on PATH,
                        else build/peers/lammps/build/lmp)
   --build-peer         if no LAMMPS with the SPH package is found, build one
@@ -73,8 +84,10 @@ while (($#)); do
     --ranks) RANKS="$2"; shift 2 ;;
     --rounds) ROUNDS="$2"; shift 2 ;;
     --steps) STEPS="$2"; shift 2 ;;
+    --dem-steps) DEM_STEPS="$2"; shift 2 ;;
     --set) SETS+=("$2"); shift 2 ;;
     --bench) BENCH="$2"; shift 2 ;;
+    --bench-dem) BENCH_DEM="$2"; shift 2 ;;
     --lmp) LMP="$2"; shift 2 ;;
     --build-peer) BUILD_PEER=1; shift ;;
     --bare) DEFAULT_SETS=(); shift ;;
@@ -88,6 +101,15 @@ done
 PEER_DIR=$(realpath -m "$PEER_DIR")  # run_in changes directory
 [[ "$ROUNDS" =~ ^[1-9][0-9]*$ ]] || { echo "bench_vs_lammps: --rounds must be a positive integer, not '$ROUNDS'" >&2; exit 2; }
 [[ "$STEPS" =~ ^[1-9][0-9]*$ ]] || { echo "bench_vs_lammps: --steps must be a positive integer, not '$STEPS'" >&2; exit 2; }
+[[ "$DEM_STEPS" =~ ^[1-9][0-9]*$ ]] || { echo "bench_vs_lammps: --dem-steps must be a positive integer, not '$DEM_STEPS'" >&2; exit 2; }
+SPH_CASES="" DEM_CASES=""
+for c in $CASES; do
+  case "$c" in
+    21k | 99k) SPH_CASES+=" $c" ;;
+    bpm175 | bpm4800) DEM_CASES+=" $c" ;;
+    *) echo "bench_vs_lammps: unknown case '$c' in --cases (21k, 99k, bpm175 or bpm4800)" >&2; exit 2 ;;
+  esac
+done
 for r in $RANKS; do
   [[ "$r" =~ ^[1-9][0-9]*$ ]] || { echo "bench_vs_lammps: --ranks takes positive integers, not '$r'" >&2; exit 2; }
 done
@@ -173,7 +195,9 @@ if ! peer=$(find_peer); then
   fi
 fi
 if ! ((DRY)); then
-  [[ -x "$BENCH" ]] || { echo "bench_vs_lammps: no $BENCH (cmake --preset release && cmake --build build/release --target bench_sph)" >&2; exit 1; }
+  [[ -z "$SPH_CASES" || -x "$BENCH" ]] || { echo "bench_vs_lammps: no $BENCH (cmake --preset release && cmake --build build/release --target bench_sph)" >&2; exit 1; }
+  [[ -z "$DEM_CASES" || -x "$BENCH_DEM" ]] || { echo "bench_vs_lammps: no $BENCH_DEM (cmake --preset release && cmake --build build/release --target bench_dem)" >&2; exit 1; }
+  [[ -z "$DEM_CASES" ]] || "$peer" -h 2>/dev/null | grep -qw BPM || { echo "bench_vs_lammps: $peer has no BPM package (needed by $DEM_CASES)" >&2; exit 1; }
   command -v hyperfine >/dev/null || { echo "bench_vs_lammps: hyperfine is missing (scripts/install-deps.sh --peer)" >&2; exit 1; }
 fi
 
@@ -183,11 +207,10 @@ mpi="mpirun --oversubscribe"
 [[ $(id -u) -eq 0 ]] && mpi+=" --allow-run-as-root"
 
 run mkdir -p "$OUT"
-for c in $CASES; do
+for c in $SPH_CASES; do
   case "$c" in
     21k) nx=320; ny=60 ;;
     99k) nx=720; ny=132 ;;
-    *) echo "bench_vs_lammps: unknown case '$c' (21k or 99k)" >&2; exit 2 ;;
   esac
   for r in $RANKS; do
     ours="$mpi -n $r $BENCH --nx $nx --ny $ny --steps $STEPS$sets"
@@ -198,22 +221,51 @@ for c in $CASES; do
     done
   done
 done
+for c in $DEM_CASES; do
+  case "$c" in
+    bpm175) fibers=175; grid=(5 5 7) ;;
+    bpm4800) fibers=4800; grid=(20 20 12) ;;
+  esac
+  for r in $RANKS; do
+    ours="$mpi -n $r $BENCH_DEM --dim 3 --fibers $fibers --steps $DEM_STEPS --no-breakdown"
+    lmp_cmd="cd $DEM_DECK_DIR && $mpi -n $r $peer -in in.bpm_fibers_3d -var nfx ${grid[0]} -var nfy ${grid[1]} -var nfz ${grid[2]} -var nsteps $DEM_STEPS -log none -screen none"
+    for k in $(seq "$ROUNDS"); do
+      run hyperfine --runs 1 --style basic --export-json "$OUT/${c}_np${r}_round$k.json" \
+        -n sphdem "$ours" -n lammps_bpm "$lmp_cmd"
+    done
+  done
+done
 ((DRY)) && exit 0
 
 # Per round: sphdem / each peer mode and / the faster peer mode; median and range.
-python3 - "$OUT" "$CASES" "$RANKS" "$ROUNDS" <<'EOF'
+python3 - "$OUT" "$SPH_CASES" "$DEM_CASES" "$RANKS" "$ROUNDS" <<'EOF'
 import json, statistics, sys
-out, cases, ranks, rounds = sys.argv[1], sys.argv[2].split(), sys.argv[3].split(), int(sys.argv[4])
-print("| case | ranks | rounds | sphdem / LAMMPS continuity | sphdem / LAMMPS summation | sphdem / faster peer |")
-print("| --- | --- | --- | --- | --- | --- |")
-for c in cases:
-    for r in ranks:
-        cols = {"cont": [], "sum": [], "best": []}
-        for k in range(1, rounds + 1):
-            t = {x["command"]: x["mean"] for x in json.load(open(f"{out}/{c}_np{r}_round{k}.json"))["results"]}
-            cols["cont"].append(t["sphdem"] / t["lammps_cont"])
-            cols["sum"].append(t["sphdem"] / t["lammps_sum"])
-            cols["best"].append(t["sphdem"] / min(t["lammps_cont"], t["lammps_sum"]))
-        cell = lambda v: f"{statistics.median(v):.2f} ({min(v):.2f}-{max(v):.2f})"
-        print(f"| {c} | {r} | {rounds} | {cell(cols['cont'])} | {cell(cols['sum'])} | {cell(cols['best'])} |")
+out, sph, dem, ranks, rounds = sys.argv[1], sys.argv[2].split(), sys.argv[3].split(), sys.argv[4].split(), int(sys.argv[5])
+cell = lambda v: f"{statistics.median(v):.2f} ({min(v):.2f}-{max(v):.2f})"
+def times(c, r):  # one {command: wall time} per round
+    return [{x["command"]: x["mean"] for x in json.load(open(f"{out}/{c}_np{r}_round{k}.json"))["results"]}
+            for k in range(1, rounds + 1)]
+if sph:
+    print("| case | ranks | rounds | sphdem / LAMMPS continuity | sphdem / LAMMPS summation | sphdem / faster peer |")
+    print("| --- | --- | --- | --- | --- | --- |")
+    for c in sph:
+        for r in ranks:
+            t = times(c, r)
+            cont = [x["sphdem"] / x["lammps_cont"] for x in t]
+            summ = [x["sphdem"] / x["lammps_sum"] for x in t]
+            best = [x["sphdem"] / min(x["lammps_cont"], x["lammps_sum"]) for x in t]
+            print(f"| {c} | {r} | {rounds} | {cell(cont)} | {cell(summ)} | {cell(best)} |")
+if dem:
+    print("| case | ranks | rounds | sphdem / LAMMPS BPM |")
+    print("| --- | --- | --- | --- |")
+    for c in dem:
+        for r in ranks:
+            print(f"| {c} | {r} | {rounds} | {cell([x['sphdem'] / x['lammps_bpm'] for x in times(c, r)])} |")
+if len(ranks) > 1:
+    print(f"| case | sphdem speed-up from {ranks[0]} rank(s), per rank count |")
+    print("| --- | --- |")
+    for c in sph + dem:
+        base = times(c, ranks[0])
+        ups = [f"{r}: {cell([b['sphdem'] / x['sphdem'] for b, x in zip(base, times(c, r))])}" for r in ranks[1:]]
+        print(f"| {c} | {'; '.join(ups)} |")
 EOF
