@@ -31,16 +31,8 @@
 namespace sphdem {
 namespace {
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
-
-const Comm& world() {
-  static const Comm c;
-  return c;
-}
+using testing::quiet;
+using testing::world;
 
 // --- a flat surface, by hand ----------------------------------------------------------
 

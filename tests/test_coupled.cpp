@@ -23,15 +23,12 @@
 #include "sphdem/coupling/coupling.hpp"
 #include "sphdem/parallel/comm.hpp"
 #include "sphdem/solver/solver.hpp"
+#include "validation_helpers.hpp"
 
 namespace sphdem {
 namespace {
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
+using testing::quiet;
 
 // A closed box full of resin with DEM particles in it.
 std::string box_case(const std::string& fibers, const std::string& extra,

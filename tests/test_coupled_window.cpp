@@ -22,15 +22,12 @@
 #include "sphdem/solver/coupled_window.hpp"
 #include "sphdem/solver/coupling_module.hpp"
 #include "sphdem/solver/solver.hpp"
+#include "validation_helpers.hpp"
 
 namespace sphdem {
 namespace {
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
+using testing::quiet;
 
 struct Shear {
   double c0 = 0.3;          // sound speed [m/s]; the wall slides at 0.03 m/s

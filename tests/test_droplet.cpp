@@ -26,16 +26,8 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
-
-const Comm& comm() {
-  static const Comm c;
-  return c;
-}
+using testing::quiet;
+using testing::world;
 
 template <int D>
 Vec<D> centroid(const SphParticles<D>& ps) {
@@ -89,7 +81,7 @@ double mean_core_pressure(Simulation<D>& sim, double radius, double t0, double t
 // ~4 R / c0 = 0.8 ms, is damped by then).
 TEST(Droplet, Laplace2D) {
   const Case c = testing::load_input("validation/droplet_2d.yaml");
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   const double radius = equivalent_radius(sim.particles(), c.numerics.spacing);
   const double want = c.resin.surface_tension / radius;
   const double p = mean_core_pressure(sim, radius, 0.004, c.numerics.end_time);
@@ -118,7 +110,7 @@ TEST(Droplet, Mode2Period2D) {
   const Case c = testing::load_input(
       "validation/droplet_2d.yaml",
       {"numerics.end_time=0.02", "initial_fields=[{velocity: ['50*x', '-50*y']}]"});
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   const double radius = equivalent_radius(sim.particles(), c.numerics.spacing);
   const double omega =
       std::sqrt(6.0 * c.resin.surface_tension / (c.resin.density * radius * radius * radius));
@@ -173,7 +165,7 @@ CapShape cap_shape(const SphParticles<2>& ps, double dp) {
 CapShape cap_at(double theta_deg, double t) {
   const Case c = testing::load_input("validation/droplet_wall_2d.yaml",
                                      {"mold.contact_angle=" + std::to_string(theta_deg)});
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   testing::run_until(sim, t);
   const CapShape cap = cap_shape(sim.particles(), c.numerics.spacing);
   std::printf(
@@ -278,7 +270,7 @@ Held hold(double theta_deg, bool from_cap) {
   const Case c = testing::load_input("validation/droplet_wall_2d.yaml", sets);
   const double dp = c.numerics.spacing;
   const double a = equilibrium_cap(theta_deg).half_base;
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   Held held;
   int n = 0;
   for (int k = 0; k <= 20; ++k) {
@@ -370,7 +362,7 @@ std::string droplet_3d_case(int n, double dp, double h_over_dp, double end_time)
 TEST(Droplet, Laplace3D) {
   const double dp = 1.25e-4;
   const Case c = load_case_from_string(droplet_3d_case(8, dp, 1.5, 0.004), "droplet_3d.yaml");
-  Simulation<3> sim(c, comm(), quiet());
+  Simulation<3> sim(c, world(), quiet());
   const double radius = equivalent_radius(sim.particles(), dp);
   const double want = 2 * c.resin.surface_tension / radius;
   const double p = mean_core_pressure(sim, radius, 0.002, c.numerics.end_time);

@@ -20,15 +20,12 @@
 #include "sphdem/parallel/comm.hpp"
 #include "sphdem/solver/coupling_module.hpp"
 #include "sphdem/solver/solver.hpp"
+#include "validation_helpers.hpp"
 
 namespace sphdem {
 namespace {
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
+using testing::quiet;
 
 // The two-body exchange: the slip decays as exp(-dt c (1/m + 1/M)), the
 // parcel takes the opposite impulse, short steps are the explicit drag and

@@ -20,16 +20,8 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
-
-const Comm& comm() {
-  static const Comm c;
-  return c;
-}
+using testing::quiet;
+using testing::world;
 
 // --- wall conditions ----------------------------------------------------------
 
@@ -49,7 +41,7 @@ double navier_poiseuille(double y, double F, double b) {
 TEST(WallConditions, NavierSlipPoiseuilleMatchesTheAnalyticProfile) {
   const Case c = testing::load_input("validation/poiseuille_navier_slip.yaml");
   const double F = c.body_force[0], b = *c.mold.slip_length;
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   testing::run_until(sim, c.numerics.end_time);
   const double err = testing::relative_l2_ux<2>(
       sim.particles(), [&](double y) { return navier_poiseuille(y, F, b); });
@@ -64,7 +56,7 @@ TEST(WallConditions, NavierSlipWithZeroLengthIsNoSlip) {
   const Case no_slip = testing::load_input("validation/poiseuille.yaml");
   const Case zero = testing::load_input("validation/poiseuille.yaml",
                                         {"mold.wall_condition=navier_slip", "mold.slip_length=0"});
-  Simulation<2> a(no_slip, comm(), quiet()), b(zero, comm(), quiet());
+  Simulation<2> a(no_slip, world(), quiet()), b(zero, world(), quiet());
   a.advance(300);
   b.advance(300);
   ASSERT_EQ(a.particles().n_owned, b.particles().n_owned);
@@ -83,7 +75,7 @@ TEST(WallConditions, NavierSlipWithZeroLengthIsNoSlip) {
 TEST(WallConditions, FreeSlipChannelStaysAPlug) {
   const Case c =
       testing::load_input("validation/poiseuille.yaml", {"mold.wall_condition=free_slip"});
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   testing::run_until(sim, 0.1);
   const SphParticles<2>& ps = sim.particles();
   double lo = 1e300, hi = -1e300, sum = 0;
@@ -133,7 +125,7 @@ double kinetic_energy(const SphParticles<2>& ps) {
 // of state, density from the pressure expression.
 TEST(InitialFields, ExpressionsSetVelocityAndDensity) {
   const Case c = testing::load_input("validation/taylor_green.yaml");
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   const SphParticles<2>& ps = sim.particles();
   const TaitEos eos(c.resin.density, c.resin.sound_speed, c.resin.gamma);
   ASSERT_EQ(ps.n_owned, 1600u);
@@ -160,7 +152,7 @@ TEST(InitialFields, TaylorGreenVortexDecaysAtTheViscousRate) {
   const Case c = testing::load_input("validation/taylor_green.yaml");
   const double nu = c.resin.viscosity / c.resin.density;
   const double rate = 8 * kPi * kPi * nu;  // L = 1 m
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   const double a0 = tg_amplitude(sim.particles()), e0 = kinetic_energy(sim.particles());
   for (double t : {0.1, 0.15, 0.2}) {
     testing::run_until(sim, t);
@@ -197,7 +189,7 @@ void expect_error(const std::string& extra, int line, const std::string& key,
                   const std::string& message, bool build = false) {
   try {
     const Case c = load_case_from_string(std::string(kCase) + extra, "case.yaml");
-    if (build) Simulation<2> sim(c, comm(), quiet());
+    if (build) Simulation<2> sim(c, world(), quiet());
     ADD_FAILURE() << "no error; expected case.yaml:" << line << " " << key << ": " << message;
   } catch (const InputError& e) {
     const std::string what = e.what();
@@ -277,7 +269,7 @@ TEST(InitialFields, PerFillRegion) {
                                 "initial_velocity: [0.5, 0]\ninitial_fields:\n  - fill: 1\n"
                                 "    velocity: ['2 * y', '-1']\n",
                             "case.yaml");
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   const SphParticles<2>& ps = sim.particles();
   int left = 0, right = 0;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {

@@ -29,10 +29,7 @@
 namespace sphdem {
 namespace {
 
-const Comm& world() {
-  static const Comm c;
-  return c;
-}
+using testing::world;
 
 // --- by hand: a block of resin with a linear velocity field -------------------------
 
@@ -186,11 +183,7 @@ fill: [{box: {min: [0, 0], max: [0.002, 0.004]}}]
 
 // --- the channel: inputs/validation/fountain_channel_2d.yaml -----------------------
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
+using testing::quiet;
 
 struct Row {
   std::int64_t gid = 0;

@@ -17,16 +17,8 @@
 namespace sphdem {
 namespace {
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
-
-const Comm& comm() {
-  static const Comm c;
-  return c;
-}
+using testing::quiet;
+using testing::world;
 
 // --- detection --------------------------------------------------------------------
 
@@ -39,7 +31,7 @@ TEST(FreeSurface, DetectsTheOpenSidesOfAColumnWithOutwardNormals) {
       testing::load_input("validation/dam_break_front.yaml",
                           {"body_force=[0, 0]", "numerics.particle_shifting=false",
                            "output.fields=[free_surface, surface_normal, position_divergence]"});
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   sim.advance(1);
   const SphParticles<2>& ps = sim.particles();
   const double dp = c.numerics.spacing, a = 0.02, H = 0.04;
@@ -119,7 +111,7 @@ TgState taylor_green_at_default_h(bool shifting) {
       {"numerics.h_over_spacing=1.2",
        std::string("numerics.particle_shifting=") + (shifting ? "true" : "false"),
        "numerics.shifting_coefficient=6"});
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   const double a0 = tg_amplitude(sim.particles());
   testing::run_until(sim, 0.12);
   double rho = 0;
@@ -163,7 +155,7 @@ JetResult fire_jet(bool repulsion, double v) {
       testing::load_input("validation/jet_impact.yaml",
                           {std::string("numerics.wall_repulsion=") + (repulsion ? "true" : "false"),
                            "initial_velocity=[" + std::to_string(-v) + ", 0]"});
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   JetResult r;
   try {
     while (sim.time() < c.numerics.end_time * (1 - 1e-12)) {
@@ -238,7 +230,7 @@ double front(const SphParticles<2>& ps, double dp) {
 TEST(DamBreak, FrontFollowsMartinMoyce) {
   const Case c = testing::load_input("validation/dam_break_front.yaml");
   const double a = 0.02, g = 9.81, dp = c.numerics.spacing;
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   double worst = 0;
   for (double T : {1.0, 1.5, 2.0, 2.5}) {
     testing::run_until(sim, T / std::sqrt(2 * g / a));

@@ -27,16 +27,8 @@ namespace {
 
 using terms::PassRun;
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
-
-const Comm& comm() {
-  static const Comm c;
-  return c;
-}
+using testing::quiet;
+using testing::world;
 
 // The bench_sph channel (bench/bench_sph.cpp) at 40 x 16 spacings: periodic
 // in x, walls below and above, a body force, no free surface; anti-clump on.
@@ -83,7 +75,7 @@ template <int D>
 FlagCounts expect_flag_of_the_full_pass(const Case& c, int steps) {
   const SphParams sp = make_sph_params(c);
   EXPECT_EQ(terms::pass_run<terms::FreeSurfacePass>(sp, terms::SphTerms{}), PassRun::Lite);
-  Simulation<D> sim(c, comm(), quiet());
+  Simulation<D> sim(c, world(), quiet());
   sim.advance(steps);
   SphParticles<D> full = sim.particles();  // owned and ghosts, as the last step left them
   SphParticles<D> lite = full;
@@ -147,8 +139,8 @@ void expect_same_run(const Case& lite_case, const Case& full_case, int steps) {
             PassRun::Lite);
   EXPECT_EQ(terms::pass_run<terms::FreeSurfacePass>(make_sph_params(full_case), terms::SphTerms{}),
             PassRun::Full);
-  Simulation<D> a(lite_case, comm(), quiet());
-  Simulation<D> b(full_case, comm(), quiet());
+  Simulation<D> a(lite_case, world(), quiet());
+  Simulation<D> b(full_case, world(), quiet());
   a.advance(steps);
   b.advance(steps);
   const SphParticles<D>& pa = a.particles();

@@ -24,16 +24,8 @@
 namespace sphdem {
 namespace {
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
-
-const Comm& world() {
-  static const Comm c;
-  return c;
-}
+using testing::quiet;
+using testing::world;
 
 // --- the anti-clump term at impacts ---------------------------------------------------
 

@@ -71,11 +71,7 @@ std::vector<Row> gather_fluid(const Comm& comm, const SphParticles<D>& ps) {
 // Ranks other than 0 wait for rank 0's serial reference without spinning:
 // ctest runs these tests with more ranks than cores.
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
+using testing::quiet;
 
 // Rank 0 runs the case alone for `steps` steps; the others get nothing.
 template <int D>

@@ -15,15 +15,12 @@
 #include "sphdem/solver/dem_run.hpp"
 #include "sphdem/solver/output_cadence.hpp"
 #include "sphdem/solver/solver.hpp"
+#include "validation_helpers.hpp"
 
 namespace sphdem {
 namespace {
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
+using testing::quiet;
 
 Case input(const std::string& file, const std::vector<std::string>& sets = {}) {
   return load_case(std::string(SPHDEM_SOURCE_DIR) + "/inputs/" + file, sets);

@@ -16,6 +16,7 @@
 #include "sphdem/neighbor/neighbor.hpp"
 #include "sphdem/solver/solver.hpp"
 #include "sphdem/sph/sph.hpp"
+#include "validation_helpers.hpp"
 
 namespace sphdem {
 namespace {
@@ -23,11 +24,7 @@ namespace {
 constexpr double kDp = 1.0e-4;
 constexpr double kRadius = 16 * kDp;  // the disc's nodes lie within it
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
+using testing::quiet;
 
 SphParams disc_params(double h_over_dp) {
   SphParams sp;

@@ -22,16 +22,8 @@
 namespace sphdem {
 namespace {
 
-RunOptions quiet() {
-  RunOptions opt;
-  opt.write_output = false;
-  return opt;
-}
-
-const Comm& comm() {
-  static const Comm c;
-  return c;
-}
+using testing::quiet;
+using testing::world;
 
 // erfinv by Newton's method on erf (enough for the test's one value).
 double erfinv(double y) {
@@ -63,7 +55,7 @@ double worst_erf_error(const SphParticles<2>& ps, double t, double a, double gap
 TEST(Thermal, ConductionFromSuddenlyCooledWallMatchesErf) {
   const Case c = testing::load_input("validation/conduction_wall.yaml");
   const double a = 20.0 / (1000.0 * 2000.0);
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   for (double t : {0.01, 0.025}) {
     testing::run_until(sim, t);
     const double err = worst_erf_error(sim.particles(), sim.time(), a, 6e-3, 3e-3);
@@ -81,7 +73,7 @@ TEST(Thermal, ConductionFromSuddenlyCooledWallMatchesErf) {
 TEST(Thermal, CouetteViscousHeatingMatchesBrinkman) {
   const Case c = testing::load_input("validation/couette_heating.yaml");
   constexpr double kMu = 1e-2, kU = 1e-2, kK = 2.5e-9, kH = 1e-3, kTw = 300;
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   testing::run_until(sim, c.numerics.end_time);
   double num = 0, den = 0, peak = 0;
   for (std::size_t i = 0; i < sim.particles().n_owned; ++i) {
@@ -110,7 +102,7 @@ TEST(Thermal, FrozenLayerGrowsAsSqrtTime) {
   // The erf profile T_s + (T_i - T_s) erf(y / (2 sqrt(a t))) reaches T_noflow at
   // y_f = 2 erfinv((420 - 300) / (500 - 300)) sqrt(a t).
   const double slope = 2 * erfinv(0.6) * std::sqrt(kA);
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   double sum_ds = 0, sum_ss = 0;
   for (int k = 1; k <= 10; ++k) {
     testing::run_until(sim, 1.0 * k);
@@ -162,7 +154,7 @@ TEST(Thermal, FibersTakeTheLocalResinTemperature) {
       "validation/coupled_box.yaml",
       {"resin.thermal.temperature=450", "resin.thermal.heat_capacity=2000",
        "resin.thermal.conductivity=0.2", "initial_fields=[{temperature: '400 + 1e4*y'}]"});
-  Simulation<2> sim(c, comm(), quiet());
+  Simulation<2> sim(c, world(), quiet());
   sim.advance(20);
   const DemParticles<2>& dem = sim.dem()->particles();
   std::size_t checked = 0;
@@ -211,7 +203,7 @@ void expect_error(const std::string& text, int line, const std::string& key,
                   const std::string& message) {
   try {
     const Case c = load_case_from_string(text, "case.yaml");
-    Simulation<2> sim(c, comm(), quiet());
+    Simulation<2> sim(c, world(), quiet());
     ADD_FAILURE() << "no error; expected case.yaml:" << line << " " << key << ": " << message;
   } catch (const InputError& e) {
     const std::string what = e.what();

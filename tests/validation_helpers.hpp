@@ -11,6 +11,19 @@
 
 namespace sphdem::testing {
 
+// Runs that write no files, as most tests want.
+inline RunOptions quiet() {
+  RunOptions opt;
+  opt.write_output = false;
+  return opt;
+}
+
+// MPI_COMM_WORLD, made once.
+inline const Comm& world() {
+  static const Comm c;
+  return c;
+}
+
 inline Case load_input(const std::string& relative, const std::vector<std::string>& sets = {}) {
   return load_case(std::string(SPHDEM_SOURCE_DIR) + "/inputs/" + relative, sets);
 }
