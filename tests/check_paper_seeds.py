@@ -12,7 +12,9 @@ docs/paper-comparison.md "Seeds: torque and glass") without real runs:
     per region, the run's bond stress peak with its interval and place, the
     peak after the start-up, the broken bonds, L_N and L_W, the glass/E = 1e8
     CPU and wall ratios, the spread between seeds, all equal to the hand
-    values; the PNGs are written.
+    values; the PNGs are written; --common analyses runs that ended at
+    different times at the latest time all plates reached, --time the
+    plates at that time and the breakage runs at their last.
 
 usage: check_paper_seeds.py SOURCE_DIR WORK_DIR
 """
@@ -211,6 +213,33 @@ expect(row("all")[:2] == ["2.5 +- 0.707 (2..3)", "2.5 +- 0.707 (2..3)"], "glass 
 for suffix in ("_bonds.png", "_orientation.png", "_lengths.png"):
     p = os.path.join(work, "fig" + suffix)
     expect(os.path.isfile(p) and os.path.getsize(p) > 1000, "writes fig%s" % suffix)
+# Runs that end at different times (one still going): --common analyses the
+# plates at the latest time both reached, 2 ms; --time picks the plates' time
+# and leaves the breakage run at its last snapshot.
+part = os.path.join(work, "partial")
+os.makedirs(part)
+write_run(part, "e1e8_s1", 1000, 0.004, 10.0, 1.0, 20.5,
+          [(0.0, (layout, np.zeros(nb), np.zeros(nb), np.zeros(nb))),
+           (0.002, (layout, peaks(2e6, 4), peaks(1e5, 4), peaks(2e6, 4))),
+           (0.004, (layout, peaks(5e6, 4), peaks(3e5, 4), peaks(5e6, 4)))])
+write_run(part, "glass_s1", 500, 0.002, 20.0, 2.0, 61.5,
+          [(0.0, (layout, np.zeros(nb), np.zeros(nb), np.zeros(nb))),
+           (0.002, (layout, peaks(8e6, 0), peaks(1e5, 0), peaks(8e6, 0)))])
+write_run(part, "breakage_s1", 300, 3e-4, 50.0, 2.0, 100.0,
+          [(0.0, (blayout, np.zeros(9), np.zeros(9), np.zeros(9))),
+           (3e-4, (blayout, peaks(2e5, 1)[:9], np.zeros(9), peaks(2e5, 1)[:9], brk, bpieces))])
+r = subprocess.run(["/usr/bin/python3", tool, part, "--markdown", "--common"], capture_output=True, text=True)
+got = {}
+for ln in r.stdout.splitlines():
+    if ln.startswith("| e1e8_s1 |") or ln.startswith("| breakage_s1 |"):  # the first table: per run
+        got.setdefault(ln.split("|")[1].strip(), [c.strip() for c in ln.strip().strip("|").split("|")][1:])
+expect(r.returncode == 0 and got.get("e1e8_s1", [""])[0] == "0.002" and got["e1e8_s1"][4] == "2"
+       and got.get("breakage_s1", [""])[0] == "0.0003",
+       "--common: the plates at the time both reached (2 ms, peak 2 MPa), breakage at its own (%s)" % got)
+r = subprocess.run(["/usr/bin/python3", tool, part, "--markdown", "--time", "0.002"], capture_output=True,
+                   text=True)
+expect(r.returncode == 0 and "| breakage_s1 | 0.0003 |" in r.stdout and "| e1e8_s1 | 0.002 |" in r.stdout,
+       "--time: the plates' snapshot, the breakage run at its last")
 r = subprocess.run(["/usr/bin/python3", tool, os.path.join(work, "empty")], capture_output=True, text=True)
 expect(r.returncode == 1 and "no such directory" in r.stderr, "a missing directory: exit 1 with a message")
 

@@ -6,7 +6,7 @@ and per case with the spread between seeds (docs/paper-comparison.md,
 
 Reads OUT/{e1e8,glass,breakage}_sSEED/ (sphdem output directories), their
 logs OUT/NAME.log ("done:" line) and OUT/NAME.time (/usr/bin/time -v). For
-each run, at the last snapshot (or --time T):
+each run, at the last snapshot (or --time T, --common, below):
 
   orientation   a_xx = <p_x^2> of the fibers' end-to-end unit vectors whose
                 centroid is in a region (plate runs): the arms' near-wall
@@ -28,6 +28,12 @@ each run, at the last snapshot (or --time T):
                 shear peak, the broken bonds
   lengths       fibers (pieces), L_N and L_W (breakage runs)
   cost          SPH steps, user + system CPU and wall time of the whole job
+                (NaN while a run is still going)
+
+--common analyses all plate runs at the latest snapshot time every one of
+them has reached (the breakage runs likewise), so that runs still going, or
+stopped by paper_seeds.sh --timeout, compare at one time; --time T picks
+the plate runs' snapshot nearest T instead. In 2D a_yy = 1 - a_xx.
 
 and per case: mean +- sd and min..max over the seeds; the glass/E = 1e8 CPU
 ratio per seed (both plates of a seed run one after the other).
@@ -40,6 +46,8 @@ runs, PREFIX_lengths.png (L_N, L_W against time).
 examples:
   tools/paper_seeds.py out/paper_seeds
   tools/paper_seeds.py out/paper_seeds --markdown -o docs/img/paper_seeds
+  tools/paper_seeds.py out/paper_seeds --common
+  tools/paper_seeds.py out/paper_seeds --time 0.06
 """
 import argparse
 import glob
@@ -173,6 +181,18 @@ def analyse_run(out, case, seed, want_time, after):
     return run
 
 
+def common_times(out, found):
+    """{case: t}: the latest snapshot time that every plate run (E = 1e8 and
+    glass together, so that they compare at one time) and every breakage
+    run has reached."""
+    last = {}
+    for case, seed in found:
+        group = "breakage" if case == "breakage" else "plate"
+        t = io.list_snapshots(os.path.join(out, "%s_s%s" % (case, seed)))[-1].time
+        last[group] = min(last.get(group, np.inf), t)
+    return {case: last.get("breakage" if case == "breakage" else "plate") for case in CASES}
+
+
 def spread(values, form="%.3g"):
     """'mean +- sd (min..max)' of the finite values, or '-'."""
     v = np.array([x for x in values if np.isfinite(x)], float)
@@ -202,7 +222,11 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("out", help="the directory tools/paper_seeds.sh wrote (--out)")
     ap.add_argument("--time", type=float, metavar="T",
-                    help="analyse the snapshot nearest T [s] of every run (default: each run's last)")
+                    help="analyse the snapshot nearest T [s] of every plate run (default: each run's last; the"
+                         " breakage runs: their last, or with --common their common time)")
+    ap.add_argument("--common", action="store_true",
+                    help="analyse the plate runs at the latest snapshot time all of them have reached, and the"
+                         " breakage runs likewise (runs still going or stopped by --timeout)")
     ap.add_argument("--after", type=float, metavar="T",
                     help="the 'after start-up' peak: the output intervals that end after T [s] (default: all"
                          " but the first interval)")
@@ -213,12 +237,15 @@ def main():
     if not os.path.isdir(a.out):
         raise io.ToolError("%s: no such directory" % a.out)
 
-    runs = []
+    found = []
     for case in CASES:
         dirs = glob.glob(os.path.join(a.out, case + "_s*"))
         seeds = sorted((d.rsplit("_s", 1)[1] for d in dirs if os.path.isdir(d)), key=lambda s: (len(s), s))
-        for seed in seeds:
-            runs.append(analyse_run(a.out, case, seed, a.time, a.after))
+        found += [(case, seed) for seed in seeds]
+    want = common_times(a.out, found) if a.common else {case: None for case in CASES}
+    if a.time is not None:
+        want.update(e1e8=a.time, glass=a.time)
+    runs = [analyse_run(a.out, case, seed, want[case], a.after) for case, seed in found]
     if not runs:
         raise io.ToolError("no runs (e1e8_sN, glass_sN, breakage_sN directories) in %s" % a.out)
     by_case = {c: [r for r in runs if r["case"] == c] for c in CASES}
