@@ -6,3 +6,7 @@
 sphdem_test(test_fountain SOURCES test_fountain.cpp RANKS 1 2 LABELS validation TIMEOUT 900
             MULTI_RANK_TESTS "FountainRanks.*"
             ONE_RANK_TESTS "SurfaceTraction.*:Fountain.*")
+# The channel with implicit viscosity against the explicit run (two runs to
+# 1.5 s, several minutes on a loaded core).
+sphdem_test(test_fountain_implicit SOURCES test_fountain_implicit.cpp RANKS 1
+            LABELS "validation;long" TIMEOUT 1800)
