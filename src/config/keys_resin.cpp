@@ -192,17 +192,8 @@ void check_fixed_dt(const Map& m, Numerics& n, Context& ctx) {
   }
 }
 
-// The free surface's viscous traction is an explicit term, with the explicit
-// term's step limit: with the implicit solve's larger step it would be
-// unstable (docs/physics.md "Viscous traction at the free surface").
 void check_numerics(const Map& m, Numerics& n, Context& ctx) {
   check_fixed_dt(m, n, ctx);
-  if (n.free_surface_traction && n.viscous_integration == ViscousIntegration::Implicit) {
-    m.require("free_surface_traction")
-        .fail(
-            "needs numerics.viscous_integration: explicit (the traction is an explicit "
-            "viscous term)");
-  }
 }
 
 Key<Numerics> viscosity_model() {
@@ -316,7 +307,8 @@ Section<Numerics> make_numerics() {
           boolean("free_surface_traction", &N::free_surface_traction,
                   "at free-surface particles, add the (grad v)^T part of the viscous stress "
                   "that the Morris term lacks there, so the surface is traction-free (a "
-                  "fountain front); explicit viscosity only; see `docs/physics.md`")
+                  "fountain front); with implicit viscosity it is part of the viscous solve; "
+                  "see `docs/physics.md`")
               .identity()),
       number("neighbor_skin", "", in_range(0, 1, kClosed, kOpen), &N::neighbor_skin,
              "Verlet skin as a fraction of the support 2h")

@@ -13,7 +13,8 @@ template <int D>
 void compute_fluid_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
   terms::run_pair_loop<D, terms::SphTerms>(sp, nl, ps);
   add_wall_repulsion<D>(sp, nl, ps);
-  add_free_surface_traction<D>(sp, nl, ps);
+  // With implicit viscosity the traction is in the solve (implicit_viscosity.cpp).
+  if (!sp.implicit_viscosity) add_free_surface_traction<D>(sp, nl, ps);
 }
 
 template <int D>

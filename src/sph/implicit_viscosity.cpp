@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "sphdem/sph/surface_traction.hpp"
 #include "terms/viscosity_variable.hpp"
 
 namespace sphdem {
@@ -57,7 +58,9 @@ namespace {
 
 // The linear system over the owned unknowns (rows of the owned resin
 // particles that are not frozen; other rows stay 0):
-//   (B u)_i = m_i (1 - dt S_i) u_i + dt m_i sum_j K_ij u_j,
+//   (B u)_i = m_i (1 - dt S_i) u_i + dt m_i sum_j K_ij u_j - dt m_i T_i(u),
+// T_i the free surface's traction at the surface rows (surface_traction.hpp,
+// with sp.free_surface_traction; linear in u like the Morris part),
 // u_j for a wall neighbour its dummy value from the resin's u (affine: the
 // wall's own velocity and the frozen resin give the constant part, moved to
 // the right-hand side b).
@@ -68,6 +71,7 @@ class ViscousSystem {
                 std::span<const WallSlipLaw> wall_slip, const ViscousSolveHooks& hooks)
       : sp_(sp), dt_(dt), nl_(nl), ps_(ps), wall_slip_(wall_slip), hooks_(hooks) {
     op_.build(sp, nl, ps);
+    traction_.build(sp, nl, ps);
     const std::size_t n = ps.n_owned;
     diag_.assign(n, 0.0);
     for (std::size_t i = 0; i < n; ++i)
@@ -139,6 +143,10 @@ class ViscousSystem {
         s += op_.coeff[k] * ps_.visc_u[static_cast<std::size_t>(nb[k])];
       out[i] = diag_[i] * ps_.visc_u[i] + (dt_ * ps_.mass[i]) * s;
     }
+    for (std::size_t r = 0; r < traction_.rows.size(); ++r) {
+      const std::size_t i = traction_.rows[r];
+      if (ps_.visc_free[i] > 0.5) out[i] -= (dt_ * ps_.mass[i]) * traction_.row(r, nl_, ps_.visc_u);
+    }
   }
 
   // q = B x (linear).
@@ -209,6 +217,7 @@ class ViscousSystem {
   std::span<const WallSlipLaw> wall_slip_;
   const ViscousSolveHooks& hooks_;
   ViscousOperator<D> op_;
+  SurfaceTractionOperator<D> traction_;
   std::vector<double> diag_;
   std::vector<double> shepard_;   // per neighbour-list entry of a wall row: W / sum W
   std::vector<double> wall_sum_;  // per owned wall: sum W over its resin neighbours

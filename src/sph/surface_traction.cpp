@@ -25,6 +25,11 @@
 // Poiseuille profile reaching a free surface across the flow) is turned
 // outward (the fountain). Resin in the bulk is untouched. Neighbours in
 // list (global-id) order: rank-count independent.
+// With implicit viscosity the same term, written as a linear operator of
+// the velocity (SurfaceTractionOperator, include/sphdem/sph/
+// surface_traction.hpp), enters the backward-Euler solve instead.
+#include "sphdem/sph/surface_traction.hpp"
+
 #include <Eigen/LU>
 #include <cmath>
 
@@ -65,6 +70,53 @@ void add_free_surface_traction(const SphParams& sp, const NeighborList<D>& nl,
     ps.a[i] += (2.0 * mu / ps.rho[i]) * (G.transpose() * g);
   }
 }
+
+template <int D>
+void SurfaceTractionOperator<D>::build(const SphParams& sp, const NeighborList<D>& nl,
+                                       const SphParticles<D>& ps) {
+  rows.clear();
+  offset.clear();
+  g.clear();
+  q.clear();
+  if (!sp.free_surface_traction || !(sp.mu > 0.0) || ps.free_surface.empty()) return;
+  const WendlandC2<D> kernel(sp.h);
+  const double support2 = 4.0 * sp.h * sp.h;
+  const double morris_scale = sp.mu_scale / sp.grad_scale;
+  const std::int32_t* nb = nl.indices();
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid || ps.free_surface[i] == 0.0) continue;
+    Eigen::Matrix<double, D, D> B = Eigen::Matrix<double, D, D>::Zero();
+    Vec<D> gi = Vec<D>::Zero();
+    const std::size_t first = q.size();
+    for (std::size_t n = nl.begin(i), e = nl.end(i); n < e; ++n) {
+      const std::int32_t j = nb[n];
+      const Vec<D> x_ij = ps.x[i] - ps.x[j];
+      const double r2 = x_ij.squaredNorm();
+      if (!(r2 < support2)) {
+        q.push_back(Vec<D>::Zero());
+        continue;
+      }
+      const double vf = ps.mass[j] / ps.rho[j] * kernel.f(std::sqrt(r2)) * sp.grad_scale;
+      B -= (vf * x_ij) * x_ij.transpose();
+      gi += (vf * morris_scale * r2 / (r2 + sp.eta2)) * x_ij;
+      q.push_back(vf * x_ij);  // w_ij x_ij, scaled below
+    }
+    const double det = B.determinant();
+    if (!(std::abs(det) > 1e-6 * std::pow(B.trace() / D, D))) {  // as the explicit term
+      q.resize(first);
+      continue;
+    }
+    const double mu = sp.variable_viscosity ? ps.viscosity[i] : sp.mu;
+    const Eigen::Matrix<double, D, D> C = (2.0 * mu / ps.rho[i]) * B.inverse().transpose();
+    for (std::size_t k = first; k < q.size(); ++k) q[k] = C * q[k];
+    rows.push_back(i);
+    offset.push_back(first);
+    g.push_back(gi);
+  }
+}
+
+template struct SurfaceTractionOperator<2>;
+template struct SurfaceTractionOperator<3>;
 
 template void add_free_surface_traction<2>(const SphParams&, const NeighborList<2>&,
                                            SphParticles<2>&);

@@ -164,7 +164,8 @@ void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParti
 // The viscous traction at the free surface (src/sph/surface_traction.cpp):
 // at the particles the free-surface pass flags, the (grad v)^T part of the
 // stress that the Morris term lacks there, added to the accelerations;
-// compute_fluid_rates calls it when sp.free_surface_traction.
+// compute_fluid_rates calls it when sp.free_surface_traction with explicit
+// viscosity (implicit: SurfaceTractionOperator in the viscous solve).
 template <int D>
 void add_free_surface_traction(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps);
 
