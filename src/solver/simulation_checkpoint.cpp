@@ -127,7 +127,9 @@ std::function<void()> ResinModule<D>::read_checkpoint(CheckpointReader& r,
     if (guess->rows() != rows)
       throw InputError(path, 0, "",
                        std::string("field '") + kViscousGuessColumn + "' has the wrong size");
-    if (rows > 0) std::memcpy(loaded->visc_acc.data(), guess->data.data(), rows * sizeof(Vec<D>));
+    if (rows > 0)
+      std::memcpy(static_cast<void*>(loaded->visc_acc.data()), guess->data.data(),
+                  rows * sizeof(Vec<D>));
   }
   if (r.text("wall_names") != wall_names(walls_))
     throw InputError(path, 0, "",
