@@ -211,6 +211,22 @@ TEST(Checkpoint, RestartIsBitwiseWithAViscosityLaw) {
   check_restart_is_bitwise(c, "power_law", 57);
 }
 
+// Implicit viscosity (issue 13 part 3): each solve starts from the last
+// one's viscous acceleration (visc_acc), which the checkpoint carries; a
+// restart that started from 0 would converge to other last bits.
+TEST(Checkpoint, RestartIsBitwiseWithImplicitViscosity) {
+  const Case c =
+      load_case(std::string(SPHDEM_SOURCE_DIR) + "/inputs/validation/poiseuille_power_law.yaml",
+                {"resin.viscosity.max=1", "numerics.viscous_integration=implicit"});
+  check_restart_is_bitwise(c, "implicit", 57);
+  if (world_rank() == 0) {
+    const FullState s = read_all(checkpoint_path(work_dir("implicit") + "/straight", c.name, 114));
+    int guess = 0;
+    for (const CheckpointColumn& k : s.columns) guess += k.name == "visc_acc";
+    EXPECT_EQ(guess, 1) << "the checkpoint lacks the solve's first guess";
+  }
+}
+
 // Temperature (issue 13 part 2): a thermal case carries its temperature and
 // its rate in the checkpoint, and the frozen state follows from them.
 TEST(Checkpoint, RestartIsBitwiseWithTemperature) {

@@ -36,7 +36,8 @@ const std::vector<std::string> kOptional = {"wall_to_surface",
                                             "csf_normal",
                                             "curvature",
                                             "visc_u",
-                                            "visc_free"};
+                                            "visc_free",
+                                            "visc_acc"};
 
 template <int D>
 std::vector<std::string> held(const SphParticles<D>& ps) {
@@ -145,7 +146,7 @@ TEST(FieldUse, EachOptionBringsItsFields) {
   EXPECT_EQ(used_by<2>(load_input("validation/poiseuille_power_law.yaml")),
             (Names{"shear_rate", "viscosity"}));
   EXPECT_EQ(used_by<2>(load_input("validation/couette_implicit.yaml")),
-            (Names{"visc_u", "visc_free"}));
+            (Names{"visc_u", "visc_free", "visc_acc"}));
   const Names thermal = used_by<2>(load_input("validation/couette_heating.yaml"));
   for (const char* f : {"wall_to_surface", "temperature", "dtemp", "temp_half", "frozen"})
     EXPECT_TRUE(contains(thermal, f)) << f;

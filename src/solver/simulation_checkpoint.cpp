@@ -14,6 +14,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "front_events_output.hpp"
@@ -29,6 +30,8 @@ namespace {
 // registry checkpoint fields, so that the checkpoints of isothermal cases
 // keep their format (docs/checkpoint.md).
 constexpr const char* kThermalColumns[] = {"temperature", "dtemp"};
+// The implicit viscous solve's first guess (implicit cases only, likewise).
+constexpr const char* kViscousGuessColumn = "visc_acc";
 
 template <int D>
 std::vector<double>& thermal_field(SphParticles<D>& ps, int k) {
@@ -64,6 +67,12 @@ void ResinModule<D>::write_checkpoint(CheckpointWriter& w) {
     throw std::logic_error("sphdem: neighbor list and particles disagree at a checkpoint");
   if (ps_.n_owned > 0) std::memcpy(build.data.data(), xb.data(), build.data.size());
   cols.push_back(std::move(build));
+  if (sp_.implicit_viscosity) {  // the next solve's first guess
+    CheckpointColumn c{kViscousGuessColumn, ColumnType::F64, D, sizeof(Vec<D>), {}};
+    c.data.resize(ps_.n_owned * sizeof(Vec<D>));
+    if (ps_.n_owned > 0) std::memcpy(c.data.data(), ps_.visc_acc.data(), c.data.size());
+    cols.push_back(std::move(c));
+  }
   for (int k = 0; k < 2 && sp_.thermal; ++k) {
     const std::vector<double>& f = thermal_field(ps_, k);
     CheckpointColumn c{kThermalColumns[k], ColumnType::F64, 1, sizeof(double), {}};
@@ -96,6 +105,13 @@ std::function<void()> ResinModule<D>::read_checkpoint(CheckpointReader& r,
       throw InputError(path, 0, "",
                        std::string("field '") + kThermalColumns[k] + "' has the wrong size");
   }
+  std::optional<CheckpointColumn> guess;
+  if (sp_.implicit_viscosity) {
+    guess = take_column(cols, kViscousGuessColumn, path);
+    if (guess->row_bytes != sizeof(Vec<D>))
+      throw InputError(path, 0, "",
+                       std::string("field '") + kViscousGuessColumn + "' has the wrong size");
+  }
   auto loaded = std::make_shared<SphParticles<D>>();
   drop_unused_fields<D>(sp_, any_slip_wall(case_), *loaded);  // the fields of the running case
   const std::size_t rows = cols.empty() ? 0 : cols.front().rows();
@@ -106,6 +122,14 @@ std::function<void()> ResinModule<D>::read_checkpoint(CheckpointReader& r,
                        std::string("field '") + kThermalColumns[k] + "' has the wrong size");
     if (rows > 0)
       std::memcpy(thermal_field(*loaded, k).data(), thermal[k].data.data(), rows * sizeof(double));
+  }
+  if (guess) {
+    if (guess->rows() != rows)
+      throw InputError(path, 0, "",
+                       std::string("field '") + kViscousGuessColumn + "' has the wrong size");
+    if (rows > 0)
+      std::memcpy(static_cast<void*>(loaded->visc_acc.data()), guess->data.data(),
+                  rows * sizeof(Vec<D>));
   }
   if (r.text("wall_names") != wall_names(walls_))
     throw InputError(path, 0, "",

@@ -66,6 +66,7 @@ void drop_unused_fields(const SphParams& sp, bool slip_walls, SphParticles<D>& p
       {"curvature", runs("curvature")},
       {"visc_u", sp.implicit_viscosity},
       {"visc_free", sp.implicit_viscosity},
+      {"visc_acc", sp.implicit_viscosity},
   };
   for (const Use& u : uses)
     if (!u.used) ps.drop_field(u.field);

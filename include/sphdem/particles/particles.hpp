@@ -103,6 +103,9 @@ enum class SphGroup : std::uint8_t {
   /* 1 for an unknown of the solve (resin not frozen), 0 for a known value (walls, frozen) */     \
   X(Vec<D>, visc_u, in_group(SphGroup::Viscous))                                                  \
   X(double, visc_free, in_group(SphGroup::Viscous))                                               \
+  /* the last solve's viscous acceleration (u - v) / dt: the next solve's first guess; */         \
+  /* checkpointed by the resin module when the case is implicit */                                \
+  X(Vec<D>, visc_acc, kMigrate)                                                                   \
   /* Integrator state within a step: half-step values (owned only). They */                       \
   /* migrate: the neighbor rebuild (and so migration) sits between the */                         \
   /* drift and the second kick, which reads them. */                                              \

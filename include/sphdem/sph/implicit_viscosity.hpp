@@ -69,7 +69,8 @@ struct ViscousOperator {
 };
 
 // Replaces the velocity v of every owned resin particle that is not frozen
-// by the solution u of the system above, starting from u = v. Reads the
+// by the solution u of the system above, starting from u = v + dt visc_acc
+// (the last solve's viscous acceleration, which it then updates). Reads the
 // walls' own velocities v (and wall_to_surface for a slip law) and the
 // frozen flag; wall_slip[k] is the condition of wall k (ps.wall), the
 // others (index -1 or beyond) have sp.mold_wall. Writes visc_u and
