@@ -33,11 +33,13 @@ sphdem_test(test_fiber_ranks SOURCES test_fiber_ranks.cpp RANKS 1 2 3 4
             MULTI_RANK_TESTS "FiberRanks.*RanksAreBitwise*")
 
 # A 20-bead fiber in shear stays straight at half the Forgacs-Mason critical
-# eta G and buckles at twice it (issue 12 part 5; docs/physics.md "Buckling").
-# The same fiber in a resolved 3D shear cell on the coupled run: 2-4 ranks
-# bitwise the 1-rank run (the coupled bracket is test_buckling_long).
+# eta G and buckles at twice it (issue 12 part 5; docs/physics.md "Buckling");
+# a stressed seed (fibers.initial_bend) grows only past the threshold.
+# The same fiber in a resolved 3D shear cell on the coupled run, seeded: 2-4
+# ranks bitwise the 1-rank run (the coupled bracket is test_buckling_long).
 sphdem_test(test_buckling SOURCES test_buckling.cpp RANKS 1 2 3 4 LABELS "validation;coupling"
-            ONE_RANK_TESTS "Buckling.ForgacsMasonBracket3D:BucklingLong.*")
+            ONE_RANK_TESTS
+            "Buckling.ForgacsMasonBracket3D:Buckling.StressedSeedGrowsOnlyPastThreshold3D:BucklingLong.*")
 set_tests_properties(test_buckling_np1 PROPERTIES ENVIRONMENT "GTEST_FILTER=-BucklingLong.*")
 add_test(NAME test_buckling_long COMMAND test_buckling --gtest_filter=BucklingLong.*)
 set_tests_properties(test_buckling_long PROPERTIES TIMEOUT 3600 LABELS "long;coupling")
