@@ -39,8 +39,11 @@ sphdem_test(test_fiber_ranks SOURCES test_fiber_ranks.cpp RANKS 1 2 3 4
 # ranks bitwise the 1-rank run (the coupled bracket is test_buckling_long).
 sphdem_test(test_buckling SOURCES test_buckling.cpp RANKS 1 2 3 4 LABELS "validation;coupling"
             ONE_RANK_TESTS
-            "Buckling.ForgacsMasonBracket3D:Buckling.StressedSeedGrowsOnlyPastThreshold3D:BucklingLong.*")
-set_tests_properties(test_buckling_np1 PROPERTIES ENVIRONMENT "GTEST_FILTER=-BucklingLong.*")
+            "Buckling.ForgacsMasonBracket3D:Buckling.StressedSeedGrowsOnlyPastThreshold3D:BucklingLong.*:BucklingCoupled.*")
+set_tests_properties(test_buckling_np1 PROPERTIES ENVIRONMENT "GTEST_FILTER=-BucklingLong.*:BucklingCoupled.*")
+# The seeded bracket on the coupled run, CI-sized (about 20 s of CPU).
+add_test(NAME test_buckling_coupled COMMAND test_buckling --gtest_filter=BucklingCoupled.*)
+set_tests_properties(test_buckling_coupled PROPERTIES TIMEOUT 900 LABELS "validation;coupling")
 add_test(NAME test_buckling_long COMMAND test_buckling --gtest_filter=BucklingLong.*)
 set_tests_properties(test_buckling_long PROPERTIES TIMEOUT 3600 LABELS "long;coupling")
 
