@@ -41,7 +41,7 @@ sphdem_test(test_buckling SOURCES test_buckling.cpp RANKS 1 2 3 4 LABELS "valida
             ONE_RANK_TESTS
             "Buckling.ForgacsMasonBracket3D:Buckling.StressedSeedGrowsOnlyPastThreshold3D:BucklingLong.*:BucklingCoupled.*")
 set_tests_properties(test_buckling_np1 PROPERTIES ENVIRONMENT "GTEST_FILTER=-BucklingLong.*:BucklingCoupled.*")
-# The seeded bracket on the coupled run, CI-sized (about 20 s of CPU).
+# The seeded bracket on the coupled run, CI-sized (about 15 s of CPU).
 add_test(NAME test_buckling_coupled COMMAND test_buckling --gtest_filter=BucklingCoupled.*)
 set_tests_properties(test_buckling_coupled PROPERTIES TIMEOUT 900 LABELS "validation;coupling")
 add_test(NAME test_buckling_long COMMAND test_buckling --gtest_filter=BucklingLong.*)

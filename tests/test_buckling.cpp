@@ -267,7 +267,7 @@ CoupledBracket coupled_bracket(double phi0, double phi_stop, const std::string& 
 }
 
 // The bracket on the coupled run, CI-sized (docs/validation.md section 15;
-// about 8 s of CPU per run): the seeded fiber from -30 deg, just before the
+// about 7 s of CPU per run): the seeded fiber from -30 deg, just before the
 // strongest compression (-31 to -59 deg, where at twice the critical eta G
 // the chain is past its own threshold), to -90 deg, the end of the
 // compressional quadrant. A perturbation of the straight fiber decays or
