@@ -33,12 +33,17 @@ sphdem_test(test_fiber_ranks SOURCES test_fiber_ranks.cpp RANKS 1 2 3 4
             MULTI_RANK_TESTS "FiberRanks.*RanksAreBitwise*")
 
 # A 20-bead fiber in shear stays straight at half the Forgacs-Mason critical
-# eta G and buckles at twice it (issue 12 part 5; docs/physics.md "Buckling").
-# The same fiber in a resolved 3D shear cell on the coupled run: 2-4 ranks
-# bitwise the 1-rank run (the coupled bracket is test_buckling_long).
+# eta G and buckles at twice it (issue 12 part 5; docs/physics.md "Buckling");
+# a stressed seed (fibers.initial_bend) grows only past the threshold.
+# The same fiber in a resolved 3D shear cell on the coupled run, seeded: 2-4
+# ranks bitwise the 1-rank run (the coupled bracket is test_buckling_long).
 sphdem_test(test_buckling SOURCES test_buckling.cpp RANKS 1 2 3 4 LABELS "validation;coupling"
-            ONE_RANK_TESTS "Buckling.ForgacsMasonBracket3D:BucklingLong.*")
-set_tests_properties(test_buckling_np1 PROPERTIES ENVIRONMENT "GTEST_FILTER=-BucklingLong.*")
+            ONE_RANK_TESTS
+            "Buckling.ForgacsMasonBracket3D:Buckling.StressedSeedGrowsOnlyPastThreshold3D:BucklingLong.*:BucklingCoupled.*")
+set_tests_properties(test_buckling_np1 PROPERTIES ENVIRONMENT "GTEST_FILTER=-BucklingLong.*:BucklingCoupled.*")
+# The seeded bracket on the coupled run, CI-sized (about 15 s of CPU).
+add_test(NAME test_buckling_coupled COMMAND test_buckling --gtest_filter=BucklingCoupled.*)
+set_tests_properties(test_buckling_coupled PROPERTIES TIMEOUT 900 LABELS "validation;coupling")
 add_test(NAME test_buckling_long COMMAND test_buckling --gtest_filter=BucklingLong.*)
 set_tests_properties(test_buckling_long PROPERTIES TIMEOUT 3600 LABELS "long;coupling")
 

@@ -25,13 +25,17 @@ struct Cell {
   double time = 0;
   double phi_start = 0, phi_end = 0;  // fiber 0's end-to-end direction in the x-y plane [rad]
   double least_straightness = 1;      // fiber 0's least end-to-end / contour over the run
+  // Fiber 0's sagitta over its length (contour n / (n - 1): fibers.initial_bend's measure).
+  double first_bulge = 0;    // at t = 0
+  double largest_bulge = 0;  // its largest over the run
 };
 
-// Fiber 0's (gids 0..n-1) end-to-end vector and contour length, summed
-// over the ranks (each rank adds its owned particles' share).
+// Fiber 0's (gids 0..n-1) end-to-end vector, contour length and sagitta
+// (its centres' largest distance from the end-to-end line) over its
+// length, summed over the ranks (each rank adds its owned particles' share).
 template <int D>
 void fiber_measure(const Comm& comm, const DemDomain<D>& dem, int n, Vec<D>& end_to_end,
-                   double& contour) {
+                   double& contour, double& bulge) {
   const auto& f = dem.particles();
   std::vector<double> x(static_cast<std::size_t>(n) * D, 0.0);
   for (std::size_t i = 0; i < f.n_owned; ++i)
@@ -47,6 +51,12 @@ void fiber_measure(const Comm& comm, const DemDomain<D>& dem, int n, Vec<D>& end
   contour = 0;
   for (int k = 1; k < n; ++k) contour += (at(k) - at(k - 1)).norm();
   end_to_end = at(n - 1) - at(0);
+  const Vec<D> axis = end_to_end.normalized();
+  bulge = 0;
+  for (int k = 1; k + 1 < n; ++k) {
+    const Vec<D> d = at(k) - at(0);
+    bulge = std::max(bulge, (d - d.dot(axis) * axis).norm() / (contour * n / (n - 1)));
+  }
 }
 
 // Runs to t_end, or until fiber 0 has turned below phi_stop [rad].
@@ -60,15 +70,17 @@ Cell run_cell(const Comm& comm, const std::string& input, const std::vector<std:
   const int n = c.fibers->particles_per_fiber;
   Cell cell;
   Vec<D> e;
-  double contour = 0;
-  fiber_measure<D>(comm, *sim.dem(), n, e, contour);
+  double contour = 0, bulge = 0;
+  fiber_measure<D>(comm, *sim.dem(), n, e, contour, bulge);
   cell.phi_start = std::atan2(e[1], e[0]);
+  cell.first_bulge = cell.largest_bulge = bulge;
   double phi = cell.phi_start;
   while (sim.time() < t_end * (1 - 1e-12) && phi > phi_stop) {
     sim.advance(1);
-    fiber_measure<D>(comm, *sim.dem(), n, e, contour);
+    fiber_measure<D>(comm, *sim.dem(), n, e, contour, bulge);
     phi += std::remainder(std::atan2(e[1], e[0]) - phi, 2 * std::numbers::pi);
     cell.least_straightness = std::min(cell.least_straightness, e.norm() / contour);
+    cell.largest_bulge = std::max(cell.largest_bulge, bulge);
   }
   cell.phi_end = phi;
   cell.time = sim.time();

@@ -130,6 +130,14 @@ TEST(CaseFibers, Errors) {
   // A fiber longer than the region (50 mm in the 30 mm bath): refused at once.
   expect_error(edit("  count: 175", "  count: 1\n  particles_per_fiber: 200"), 8, "fibers.count",
                "cannot lie in the region");
+  // A seeded bend (docs/dem.md "Seeded bend"): a sagitta in [0, 0.25) of the
+  // length, and a chain that can bend.
+  expect_error(edit("  count: 175", "  count: 175\n  initial_bend: -0.01"), 9,
+               "fibers.initial_bend", "must be in [0, 0.25)");
+  expect_error(edit("  count: 175", "  count: 175\n  initial_bend: 0.25"), 9, "fibers.initial_bend",
+               "must be in [0, 0.25)");
+  expect_error(edit("  count: 175", "  count: 175\n  particles_per_fiber: 2\n  initial_bend: 0.01"),
+               10, "fibers.initial_bend", "at least 3 particles");
 }
 
 TEST(CaseFibers, NeitherFillNorFibers) {

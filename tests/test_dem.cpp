@@ -3,8 +3,10 @@
 // and the fiber generator.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 
@@ -422,6 +424,7 @@ TEST(DemFibers, ImpossibleFractionIsAClearError) {
 template <int D>
 void expect_shares_give_the_whole(const FiberSpec<D>& s, const std::array<int, 3>& split) {
   DemSystem<D> whole;
+  whole.params.youngs_modulus = 1e8;  // a seeded bend preloads the bonds' moments
   const FiberPlacement all = place_fibers(s, whole);
   const DemParticles<D>& w = whole.particles;
   ASSERT_EQ(w.size(), static_cast<std::size_t>(all.fibers * s.particles_per_fiber));
@@ -442,6 +445,7 @@ void expect_shares_give_the_whole(const FiberSpec<D>& s, const std::array<int, 3
       return (x.array() >= lo.array()).all() && (x.array() < hi.array()).all();
     };
     DemSystem<D> part;
+    part.params.youngs_modulus = whole.params.youngs_modulus;
     const FiberPlacement p = place_fibers(s, part, &share);
     EXPECT_EQ(p.fibers, all.fibers);
     tries += p.tries;
@@ -458,6 +462,9 @@ void expect_shares_give_the_whole(const FiberSpec<D>& s, const std::array<int, 3
         EXPECT_EQ(w.bonds[j][b].id, m.bonds[i][b].id);
         EXPECT_EQ(w.bonds[j][b].rbar, m.bonds[i][b].rbar);
         EXPECT_EQ(w.bonds[j][b].length0, m.bonds[i][b].length0);
+        EXPECT_EQ(w.bonds[j][b].fn, m.bonds[i][b].fn);
+        EXPECT_TRUE(w.bonds[j][b].fs == m.bonds[i][b].fs);
+        EXPECT_TRUE(w.bonds[j][b].mb == m.bonds[i][b].mb);
       }
     }
     seen += m.size();
@@ -477,6 +484,102 @@ TEST(DemFibers, SharesPlaceTheWholePlacementBitwise) {
   t.hi = Vec<3>(5e-3, 5e-3, 5e-3);
   t.seed = 5;
   expect_shares_give_the_whole(t, {2, 2, 2});
+  // With a seeded bend (fibers.initial_bend): the arcs and the bonds' preloads too.
+  s.bend = 0.1;
+  expect_shares_give_the_whole(s, {3, 2, 1});
+  t.bend = 0.2;
+  t.particles_per_fiber = 6;
+  t.count = 150;
+  expect_shares_give_the_whole(t, {2, 2, 2});
+}
+
+// The seeded bend (fibers.initial_bend, docs/dem.md "Seeded bend"): one 3D
+// fiber of 20 particles along phi = -10 deg in the x-y plane. Its centres
+// have the requested sagitta over the length 2 r n, bulge along e_z x u (in
+// the x-y plane), keep the pitch 2 r and the end-to-end direction u; the
+// middle bond holds the moment of the straight fiber bent to the arc's
+// curvature, E I theta0 pi / L_c with theta0 = pi W / L_c for a small
+// half-sine of sagitta W over the centres' arc length L_c = 2 r (n - 1).
+TEST(DemFibers, SeededBendIsAStressedHalfSine) {
+  constexpr double kPi = std::numbers::pi;
+  for (const double bend : {1e-3, 0.05, 0.2}) {
+    FiberSpec<3> s;
+    s.count = 1;
+    s.particles_per_fiber = 20;
+    s.lo = Vec<3>(0, 0, 0);
+    s.hi = Vec<3>(8e-3, 4e-3, 1e-3);
+    s.direction = Vec<3>(std::cos(-kPi / 18), std::sin(-kPi / 18), 0);
+    s.bend = bend;
+    DemSystem<3> sys;
+    sys.params.youngs_modulus = 1e6;
+    place_fibers(s, sys);
+    check_placement(sys, s, 1);
+    const DemParticles<3>& ps = sys.particles;
+    const double r = s.radius, length = 2 * r * 20;
+    const Vec<3> e = ps.x[19] - ps.x[0], u = *s.direction;
+    const Vec<3> v = Vec<3>(0, 0, 1).cross(u).normalized();
+    EXPECT_NEAR(e.normalized().dot(u), 1.0, 1e-14) << bend;
+    double sagitta = 0;
+    for (std::size_t k = 0; k < 20; ++k) {
+      EXPECT_NEAR((ps.x[k] - ps.x[0]).dot(Vec<3>(0, 0, 1)), 0.0, 1e-18);
+      sagitta = std::max(sagitta, (ps.x[k] - ps.x[0]).dot(v));
+    }
+    EXPECT_NEAR(sagitta / length, bend, 1e-12 * bend);
+    if (bend > 1e-3) continue;
+    const double lc = 2 * r * 19, theta0 = kPi * sagitta / lc;
+    const double ei = 1e6 * kPi * std::pow(r, 4) / 4;
+    const Vec<3> mb = ps.bonds[9][0].mb;  // the middle bond (particles 9 and 10)
+    EXPECT_NEAR(mb.norm(), ei * theta0 * kPi / lc, 2e-3 * ei * theta0 * kPi / lc);
+    EXPECT_NEAR(mb.normalized().dot(Vec<3>(0, 0, 1)), 1.0, 1e-12);  // u x v
+    EXPECT_EQ(ps.bonds[9][0].fn, 0.0);
+    EXPECT_EQ(ps.bonds[9][0].fs.norm(), 0.0);
+  }
+}
+
+// The seed is a stressed perturbation: the rest shape stays straight. A
+// free bent fiber (no drag, no damping) swings through straight to the
+// other side within a period of its first free-free bending mode,
+// omega = 22.37 sqrt(E I / (m_l L^4)); the same arc with its bonds' moments
+// cleared (a bent rest shape) stays where it was.
+TEST(DemFibers, SeededBendSpringsBackThroughStraight) {
+  constexpr double kPi = std::numbers::pi;
+  const auto swing = [](bool preloaded) {
+    FiberSpec<3> s;
+    s.count = 1;
+    s.particles_per_fiber = 10;
+    s.lo = Vec<3>(0, 0, 0);
+    s.hi = Vec<3>(4e-3, 4e-3, 1e-3);
+    s.direction = Vec<3>(1, 0, 0);
+    s.bend = 0.02;
+    DemSystem<3> sys;
+    sys.params.youngs_modulus = 1e8;
+    sys.params.kn = contact_stiffness_from_bond(sys.params, s.radius);
+    place_fibers(s, sys);
+    DemParticles<3>& ps = sys.particles;
+    if (!preloaded)
+      for (auto& slots : ps.bonds) slots[0].mb.setZero();
+    sys.invalidate_forces();
+    const double r = s.radius, length = 2 * r * 10;
+    const double ei = 1e8 * kPi * std::pow(r, 4) / 4;
+    const double m_l = ps.mass[0] / (2 * r);
+    const double period = 2 * kPi / (22.37 * std::sqrt(ei / (m_l * std::pow(length, 4))));
+    const double dt = sys.stable_dt();
+    const auto offset = [&] {  // the middle's signed distance from the end-to-end line, along y
+      return 0.5 * (ps.x[4][1] + ps.x[5][1]) - 0.5 * (ps.x[0][1] + ps.x[9][1]);
+    };
+    const double start = offset();
+    double least = start;
+    for (double t = 0; t < period; t += dt) {
+      sys.step(dt);
+      least = std::min(least, offset());
+    }
+    return least / start;
+  };
+  const double stressed = swing(true), rest_bent = swing(false);
+  std::printf("least middle offset over one period / the seed's: %.3f stressed, %.3f rest-bent\n",
+              stressed, rest_bent);
+  EXPECT_LT(stressed, -0.5);
+  EXPECT_GT(rest_bent, 0.9);
 }
 
 // Long fibers (issue 12 part 5): aspect ratio 20 to 50 in the paper's bath,

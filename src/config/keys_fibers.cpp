@@ -20,6 +20,8 @@ void finish_fibers(const Map& m, F& f, Context& ctx) {
   const std::optional<Value> fraction = m.get("area_fraction");
   if (count && fraction) fraction->fail("give either count or area_fraction, not both");
   if (!count && !fraction) m.require("count", " (give count or area_fraction)");
+  if (f.initial_bend > 0 && f.particles_per_fiber < 3)
+    m.get("initial_bend")->fail("a bend needs at least 3 particles per fiber");
   if (f.dt_safety > kStableDtSafety) {
     ctx.c.warnings.push_back(fmt::format(
         "fibers.dt_safety = {} is above {}, the largest step a free chain of fibers stays stable "
@@ -96,6 +98,21 @@ Key<F> seed() {
     f.seed = static_cast<std::uint64_t>(integer_at_least(v, 0));
   };
   k.show = [](const F& f) { return std::to_string(f.seed); };
+  return k;
+}
+
+// A setting (and identity line) only when not 0, so that a case without
+// it keeps the identity lines of older checkpoints.
+Key<F> initial_bend() {
+  Key<F> k = number("initial_bend", "", in_range(0, 0.25, false, true), &F::initial_bend,
+                    "seeds each fiber with a bend: the sagitta of a half-sine arc (its centres) "
+                    "over the fiber length, bulging in 3D along e_z x the axis (the x-y plane for "
+                    "fibers in it), a stressed perturbation of the straight fiber, which stays "
+                    "its rest shape (`docs/dem.md` \"Seeded bend\"; buckling tests); 0: straight");
+  const auto show = k.show;
+  k.section_settings = [show](const F& f, const std::string& key, std::vector<Setting>& out) {
+    if (f.initial_bend != 0) out.push_back({key, show(f), true, false});
+  };
   return k;
 }
 
@@ -182,6 +199,7 @@ Section<F> make_fibers() {
       region().required().identity(),
       orientation().identity(),
       seed().identity(),
+      initial_bend().identity(),
       // Below 1e-3 a contact would take thousands of steps: no accuracy gained.
       number("dt_safety", "", in_range(1e-3, 2, false, true), &F::dt_safety,
              "DEM step = dt_safety x min sqrt(m/k) (`docs/dem.md`); stable up to about 1.2 (a "

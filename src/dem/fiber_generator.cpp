@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "sphdem/dem/dem_fibers.hpp"
+#include "sphdem/dem/fiber_bend.hpp"
 
 namespace sphdem {
 
@@ -71,13 +72,53 @@ Vec<D> draw_direction(const FiberSpec<D>& s, Rng& rng) {
   }
 }
 
+// Where a fiber's particle centres lie relative to its centre c, for its
+// axis u: straight (c + (2 r j - half) u, as always), or on the seeded arc
+// (fiber_bend.hpp), bulging towards bend_direction(u).
+template <int D>
+struct Layout {
+  double radius = 0, half = 0;  // half: centre to end-particle centre, straight
+  std::optional<FiberBend> bend;
+
+  explicit Layout(const FiberSpec<D>& s)
+      : radius(s.radius), half((s.particles_per_fiber - 1) * s.radius) {
+    if (s.bend > 0) bend = fiber_bend(s.particles_per_fiber, s.radius, s.bend);
+  }
+  Vec<D> at(const Vec<D>& c, const Vec<D>& u, int j) const {
+    if (!bend) return c + (2.0 * radius * j - half) * u;
+    return c + (bend->along[j] * u + bend->across[j] * bend_direction<D>(u));
+  }
+  // The lowest and highest centre offset along axis d.
+  std::pair<double, double> extent(const Vec<D>& u, int d) const {
+    if (!bend) return {-half * std::abs(u[d]), half * std::abs(u[d])};
+    const Vec<D> v = bend_direction<D>(u);
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (std::size_t j = 0; j < bend->along.size(); ++j) {
+      const double x = bend->along[j] * u[d] + bend->across[j] * v[d];
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+    return {lo, hi};
+  }
+  // The farthest centre from c.
+  double reach() const {
+    if (!bend) return half;
+    double most = 0;
+    for (std::size_t j = 0; j < bend->along.size(); ++j)
+      most = std::max(most, std::hypot(bend->along[j], bend->across[j]));
+    return most;
+  }
+  // The distance between the end particles' centres.
+  double end_to_end() const { return bend ? bend->along.back() - bend->along.front() : 2 * half; }
+};
+
 // Throws when no fiber of the spec can lie in the region (issue 12 part 5:
 // long fibers), before the attempts: its fixed direction does not fit
 // (along some axis the chain, end particles included, is longer than the
 // region), or, at random orientations, it is longer than the region's
 // diagonal (no direction fits).
 template <int D>
-void check_fiber_fits(const FiberSpec<D>& s) {
+void check_fiber_fits(const FiberSpec<D>& s, const Layout<D>& layout) {
   const double r = s.radius, length = 2.0 * r * s.particles_per_fiber;
   const Vec<D> room = (s.hi - s.lo).array() - 2.0 * r;
   const double half = (s.particles_per_fiber - 1) * r;
@@ -86,10 +127,17 @@ void check_fiber_fits(const FiberSpec<D>& s) {
   if (s.direction || (D == 2 && s.angle)) {
     CandidateStream unused(0, 0, 0);
     const Vec<D> u = draw_direction(s, unused);
-    for (int d = 0; d < D; ++d) fits = fits && 2.0 * half * std::abs(u[d]) <= room[d];
+    for (int d = 0; d < D; ++d) {
+      if (!layout.bend) {
+        fits = fits && 2.0 * half * std::abs(u[d]) <= room[d];
+      } else {
+        const auto [lo, hi] = layout.extent(u, d);
+        fits = fits && hi - lo <= room[d];
+      }
+    }
     where = "at its fixed orientation";
   } else {
-    fits = fits && 2.0 * half <= room.norm();
+    fits = fits && layout.end_to_end() <= room.norm();
     where = "at any orientation";
   }
   if (!fits) {
@@ -227,8 +275,8 @@ struct Tiles {
 constexpr double kFibersPerTile = 32;
 
 template <int D>
-Tiles<D> fiber_tiles(const FiberSpec<D>& s, int target) {
-  const double r = s.radius, dmin = 2.0 * r + s.gap, half = (s.particles_per_fiber - 1) * r;
+Tiles<D> fiber_tiles(const FiberSpec<D>& s, const Layout<D>& layout, int target) {
+  const double r = s.radius, dmin = 2.0 * r + s.gap, half = layout.reach();
   double measure = 1;
   for (int d = 0; d < D; ++d) measure *= s.hi[d] - s.lo[d];
   // At least a fiber and the gap (a hair more: round-off never brings two
@@ -276,14 +324,20 @@ struct Candidate {
 };
 
 template <int D>
-Candidate<D> draw_candidate(const FiberSpec<D>& s, double half, int f, int attempt,
+Candidate<D> draw_candidate(const FiberSpec<D>& s, const Layout<D>& layout, int f, int attempt,
                             const Vec<D>* tile_lo = nullptr, const Vec<D>* tile_hi = nullptr) {
   CandidateStream rng(s.seed, static_cast<std::uint64_t>(f), static_cast<std::uint64_t>(attempt));
   Candidate<D> k;
   k.u = draw_direction(s, rng);
+  const double half = layout.half;
   for (int d = 0; d < D; ++d) {
     double lo = s.lo[d] + s.radius + half * std::abs(k.u[d]);
     double hi = s.hi[d] - s.radius - half * std::abs(k.u[d]);
+    if (layout.bend) {
+      const auto [below, above] = layout.extent(k.u, d);
+      lo = s.lo[d] + s.radius - below;
+      hi = s.hi[d] - s.radius - above;
+    }
     if (tile_lo) {
       lo = std::max(lo, (*tile_lo)[d]);
       hi = std::min(hi, (*tile_hi)[d]);
@@ -306,12 +360,14 @@ void check_spec(const FiberSpec<D>& s) {
 }
 
 // A fiber to place: its tile and where its particles went.
+template <int D>
 struct Pending {
   int colour;
   std::int64_t tile;
   int fiber;
   std::size_t first = 0;  // its first particle in the points
   std::int64_t tries = 0;
+  Vec<D> u = Vec<D>::Zero();  // its axis
 };
 
 }  // namespace
@@ -335,28 +391,29 @@ int fiber_target(const FiberSpec<D>& s) {
 template <int D>
 Vec<D> first_fiber_centre(const FiberSpec<D>& s, int f) {
   const int target = fiber_target(s);
-  const Tiles<D> tiles = fiber_tiles(s, target);
+  const Layout<D> layout(s);
+  const Tiles<D> tiles = fiber_tiles(s, layout, target);
   Vec<D> tlo, thi;
   tiles.box(tiles.tile_of_fiber(f, target), tlo, thi);
-  return draw_candidate(s, (s.particles_per_fiber - 1) * s.radius, f, 0, &tlo, &thi).c;
+  return draw_candidate(s, layout, f, 0, &tlo, &thi).c;
 }
 
 template <int D>
 FiberPlacement place_fibers(const FiberSpec<D>& s, DemSystem<D>& sys, const FiberShare<D>* share) {
   check_spec(s);
-  check_fiber_fits(s);
+  const Layout<D> layout(s);
+  check_fiber_fits(s, layout);
   if (share && sys.particles.size() > 0)
     throw std::logic_error("place_fibers: a share is placed into an empty system");
   const double region = region_measure(s);
   const int target = fiber_target(s);
   const double r = s.radius, dmin = 2.0 * r + s.gap;
-  const double half = (s.particles_per_fiber - 1) * r;  // centre to end-particle centre
-  const Tiles<D> tiles = fiber_tiles(s, target);
+  const Tiles<D> tiles = fiber_tiles(s, layout, target);
   const std::set<std::int64_t> need =
       share ? tiles_of_share(tiles, *share) : std::set<std::int64_t>{};
 
   // The fibers of the tiles to place, by colour, tile and fiber.
-  std::vector<Pending> pending;
+  std::vector<Pending<D>> pending;
   const auto add_tile = [&](std::int64_t t) {
     for (std::int64_t f = tiles.first_fiber(t, target); f < tiles.first_fiber(t + 1, target); ++f)
       pending.push_back({tiles.colour(t), t, static_cast<int>(f)});
@@ -366,7 +423,7 @@ FiberPlacement place_fibers(const FiberSpec<D>& s, DemSystem<D>& sys, const Fibe
   } else {
     for (std::int64_t t = 0; t < tiles.count(); ++t) add_tile(t);
   }
-  std::stable_sort(pending.begin(), pending.end(), [](const Pending& a, const Pending& b) {
+  std::stable_sort(pending.begin(), pending.end(), [](const Pending<D>& a, const Pending<D>& b) {
     return a.colour != b.colour ? a.colour < b.colour : a.tile < b.tile;
   });
 
@@ -375,21 +432,22 @@ FiberPlacement place_fibers(const FiberSpec<D>& s, DemSystem<D>& sys, const Fibe
   Buckets<D> buckets(s.lo, std::max(dmin, 2.0 * r));
   for (std::size_t i = 0; i < pts.size(); ++i) buckets.add(pts[i], i);
   std::vector<Vec<D>> cand(static_cast<std::size_t>(s.particles_per_fiber));
-  for (Pending& p : pending) {
+  for (Pending<D>& p : pending) {
     Vec<D> tlo, thi;
     tiles.box(p.tile, tlo, thi);
     bool placed = false;
     for (int a = 0; a < s.attempts_per_fiber && !placed; ++a) {
       ++p.tries;
-      const Candidate<D> k = draw_candidate(s, half, p.fiber, a, &tlo, &thi);
+      const Candidate<D> k = draw_candidate(s, layout, p.fiber, a, &tlo, &thi);
       if (!k.fits) continue;
       bool free = true;
       for (int j = 0; j < s.particles_per_fiber && free; ++j) {
-        cand[j] = k.c + (2.0 * r * j - half) * k.u;
+        cand[j] = layout.at(k.c, k.u, j);
         free = !buckets.any_within(cand[j], dmin, pts);
       }
       if (!free) continue;
       p.first = pts.size();
+      p.u = k.u;
       for (const Vec<D>& x : cand) {
         buckets.add(x, pts.size());
         pts.push_back(x);
@@ -406,7 +464,7 @@ FiberPlacement place_fibers(const FiberSpec<D>& s, DemSystem<D>& sys, const Fibe
 
   // Added in fiber order.
   std::sort(pending.begin(), pending.end(),
-            [](const Pending& a, const Pending& b) { return a.fiber < b.fiber; });
+            [](const Pending<D>& a, const Pending<D>& b) { return a.fiber < b.fiber; });
   FiberPlacement out;
   out.fibers = target;
   out.fraction = fiber_solid_measure(s, target) / region;
@@ -415,12 +473,18 @@ FiberPlacement place_fibers(const FiberSpec<D>& s, DemSystem<D>& sys, const Fibe
     std::int32_t fiber0 = 0;
     for (std::size_t i = 0; i < sys.particles.size(); ++i)
       fiber0 = std::max(fiber0, sys.particles.fiber[i] + 1);
-    for (const Pending& p : pending) {
+    for (const Pending<D>& p : pending) {
       out.tries += p.tries;
       std::int64_t prev = -1;
       for (std::size_t k = 0; k < ppf; ++k) {
         const std::int64_t id = sys.add_particle(pts[p.first + k], r, s.density, fiber0 + p.fiber);
-        if (prev >= 0) sys.add_bond(prev, id);
+        if (prev >= 0) {
+          sys.add_bond(prev, id);
+          if (layout.bend)
+            for (DemBond<D>& b : sys.particles.bonds[sys.particles.size() - 2])
+              if (b.partner == id)
+                preload_bent_bond(sys.params, r, layout.bend->turn[k - 1], p.u, b);
+        }
         prev = id;
       }
     }
@@ -430,7 +494,7 @@ FiberPlacement place_fibers(const FiberSpec<D>& s, DemSystem<D>& sys, const Fibe
   // (add_particle and add_bond on an empty system: fiber f's particles
   // f ppf + k, its bonds f (ppf - 1) + k, each on its lower particle).
   DemParticles<D>& ps = sys.particles;
-  for (const Pending& p : pending) {
+  for (const Pending<D>& p : pending) {
     const Vec<D> centre = 0.5 * (pts[p.first] + pts[p.first + ppf - 1]);
     if (!share->owns(centre)) continue;
     out.tries += p.tries;
@@ -446,6 +510,7 @@ FiberPlacement place_fibers(const FiberSpec<D>& s, DemSystem<D>& sys, const Fibe
       b.id = f * static_cast<std::int64_t>(ppf - 1) + static_cast<std::int64_t>(k - 1);
       b.rbar = sys.params.lambda * r;
       b.length0 = (ps.x[i] - ps.x[i - 1]).norm();
+      if (layout.bend) preload_bent_bond(sys.params, r, layout.bend->turn[k - 1], p.u, b);
     }
   }
   sys.invalidate_forces();

@@ -57,6 +57,7 @@ FiberSpec<D> fiber_spec(const FiberSettings& f) {
   if constexpr (D == 3)
     if (f.angle) s.direction = Vec<3>(std::cos(*f.angle), std::sin(*f.angle), 0.0);
   s.seed = f.seed;
+  s.bend = f.initial_bend;
   return s;
 }
 

@@ -249,6 +249,8 @@ struct FiberSettings {
   Shape region;                 // a box: particles lie fully inside
   std::optional<double> angle;  // orientation [rad] from +x; none: random
   std::uint64_t seed = 1;
+  double initial_bend =
+      0;  // seeded sagitta / fiber length (docs/dem.md "Seeded bend"); 0: straight
   double dt_safety = 0.2;
   bool subcycle_bonds = false;    // bond_integration: subcycled or implicit (docs/dem.md)
   bool implicit_bonds = false;    // bond_integration: implicit

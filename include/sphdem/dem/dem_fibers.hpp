@@ -27,6 +27,9 @@ struct FiberSpec {
   std::optional<Vec<D>> direction;  // 3D (2D also accepted)
   std::uint64_t seed = 1;
   double gap = 0;  // extra clearance between particles of different fibers [m]
+  // Seeded bend (fiber_bend.hpp): the sagitta of every fiber's half-sine arc
+  // over its length 2 r n, in [0, 0.25); 0: straight.
+  double bend = 0;
   int attempts_per_fiber = 20000;
 };
 
