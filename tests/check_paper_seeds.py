@@ -3,7 +3,8 @@
 docs/paper-comparison.md "Seeds: torque and glass") without real runs:
 
   - paper_seeds.sh: --help exits 0 and names the options; an unknown option
-    or case exits 2 naming it; --dry-run prints, per seed, the E = 1e8
+    or case exits 2 naming it; --skip-existing skips only finished runs
+    (a "done:" line in the log); --dry-run prints, per seed, the E = 1e8
     plate, then the glass plate, then the breakage case, each with
     fibers.seed, the end time and the snapshot interval asked for, under
     nice and /usr/bin/time -v, and creates nothing;
@@ -76,6 +77,20 @@ expect(all("numerics.end_time=0.02 --set output.every_time=2e-3" in ln for ln in
        and all("numerics.end_time=3e-4 --set output.every_time=1e-4" in ln for ln in runs if "breakage_" in ln),
        "--dry-run: end times and snapshot intervals per case")
 expect(not os.path.exists(dry_out), "--dry-run creates nothing")
+
+# --skip-existing skips only a run whose log says it finished: /usr/bin/time
+# writes NAME.time at the start, so an interrupted run has one too.
+skip_out = os.path.join(work, "skip")
+os.makedirs(skip_out)
+for name, log in (("e1e8_s1", "done: 10 steps to t = 0.12 s\n"), ("glass_s1", "step 10\n")):
+    open(os.path.join(skip_out, name + ".time"), "w").close()
+    with open(os.path.join(skip_out, name + ".log"), "w") as f:
+        f.write(log)
+r = sh("--dry-run", "--skip-existing", "--seeds", "1", "--cases", "e1e8 glass", "--out", skip_out,
+       "--sphdem", "no/such/sphdem")
+expect(r.returncode == 0 and "skip e1e8_s1" in r.stdout and "skip glass_s1" not in r.stdout
+       and any("glass_s1:" in ln and " mpirun " in ln for ln in r.stdout.splitlines()),
+       "--skip-existing skips the finished run and reruns the interrupted one")
 
 
 # ---- the analysis on hand-made snapshots

@@ -36,7 +36,8 @@ options:
   --timeout S           wall-clock budget per run [s] (default none); a run
                         that exceeds it is stopped and the script goes on
   --nice N              niceness (default 10)
-  --skip-existing       skip a run whose OUT/NAME.time exists
+  --skip-existing       skip a run that finished (OUT/NAME.log has sphdem's
+                        "done:" line); an interrupted run is run again
   --no-analysis         only the runs
   --dry-run             print the commands, run nothing
   -h, --help            this text
@@ -101,8 +102,10 @@ here=$(cd "$(dirname "$0")" && pwd)
 
 one_run() {  # NAME CASE_FILE SEED END EVERY
   local name=$1 file=$2 seed=$3 end=$4 every=$5
-  if [[ $skip -eq 1 && -f "$out/$name.time" ]]; then
-    echo "skip $name ($out/$name.time exists)"; return 0
+  # /usr/bin/time writes OUT/NAME.time when a run starts, so only the log's
+  # "done:" line says that the run finished.
+  if [[ $skip -eq 1 ]] && grep -q '^done:' "$out/$name.log" 2>/dev/null; then
+    echo "skip $name ($out/$name.log says done)"; return 0
   fi
   local cmd=(nice -n "$niceness")
   [[ -n "$timeout_s" ]] && cmd+=(timeout "$timeout_s")
