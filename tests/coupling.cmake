@@ -3,6 +3,10 @@
 # and the reference solutions (terminal velocity, relaxation time).
 sphdem_test(test_coupling SOURCES test_coupling.cpp RANKS 1 LABELS "unit;coupling")
 
+# The coupling passes' pairs kept between passes with a skin: bitwise the
+# fresh search's results at every pass, reused while within the skin.
+sphdem_test(test_coupling_pairs SOURCES test_coupling_pairs.cpp RANKS 1 LABELS "unit;coupling")
+
 # The coupling in 3D (inputs/validation/coupled_box_3d.yaml): 2 ranks
 # bitwise equal to one, fibers touching the mold's rectangle walls.
 sphdem_test(test_coupled_3d SOURCES test_coupled_3d.cpp RANKS 2 LABELS "mpi;coupling"

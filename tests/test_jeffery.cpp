@@ -131,7 +131,7 @@ void check_angular_momentum(unsigned seed) {
   drag_on_fibers<D>(s, sph, dem, st, dt);
   std::vector<double> eps;
   double rate = 0;
-  reaction_on_resin<D>(s, dem, sph, eps, rate);
+  reaction_on_resin<D>(s, dem, sph, st, eps, rate);
   Vec<D> p = Vec<D>::Zero();
   Rot<D> l = Rot<D>::Zero();
   double p_scale = 0, l_scale = 0;

@@ -17,6 +17,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -597,6 +598,26 @@ TEST(OrderedSum, SameBitsAtEveryRankCount) {
     EXPECT_EQ(sums[static_cast<std::size_t>(k)].sum, serial[k]);
     EXPECT_EQ(sums[static_cast<std::size_t>(k)].count, count[k]);
   }
+}
+
+// Comm::sum_max: sums and maxima (and a minimum as the largest negation)
+// in one allreduce; integers, so the sums are exact at any rank count.
+TEST(CommReductions, SumMaxInOneCollective) {
+  const Comm world;
+  const int n = world.size(), me = world.rank();
+  std::array<double, 3> sums{1.0, static_cast<double>(me), -2.0 * me};
+  std::array<double, 2> maxes{static_cast<double>(me), -(10.0 + me)};
+  world.sum_max(sums, maxes);
+  EXPECT_EQ(sums[0], n);
+  EXPECT_EQ(sums[1], n * (n - 1) / 2);
+  EXPECT_EQ(sums[2], -n * (n - 1));
+  EXPECT_EQ(maxes[0], n - 1);
+  EXPECT_EQ(-maxes[1], 10.0);  // the smallest
+  std::array<double, 0> none{};
+  std::array<double, 1> only{std::numeric_limits<double>::infinity() * (me == 0 ? -1 : 1)};
+  world.sum_max(none, only);
+  EXPECT_EQ(only[0], n == 1 ? -std::numeric_limits<double>::infinity()
+                            : std::numeric_limits<double>::infinity());
 }
 
 // The agreement after a phase each rank runs alone (loading the case

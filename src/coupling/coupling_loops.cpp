@@ -1,13 +1,13 @@
-// The coupling passes (coupling_loops.hpp). Neighbour searches use a cell
-// list over the few particles concerned (the resin, or the DEM particles),
-// rebuilt per call; candidates are sorted by global id before summing.
+// The coupling passes (coupling_loops.hpp). Both passes walk the candidate
+// pairs of coupling_pairs.hpp (one search, kept between passes when the
+// caller asks), keeping those within the kernel support in increasing
+// global id.
 #include "sphdem/coupling/coupling_loops.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "sphdem/dem/cell_list.hpp"
 #include "terms/continuity_void.hpp"
 #include "terms/reaction.hpp"
 #include "terms/rotation.hpp"
@@ -25,39 +25,20 @@ struct Near {
   bool operator<(const Near& o) const { return gid < o.gid; }
 };
 
-// Particles of `cells` (over positions `x`, ids via `gid_of`) within
-// `support` of p, sorted by gid.
+// The candidates [begin, end) of `items` (indices into `x`, by gid) within
+// `support` of p, in the same order.
 template <int D, class GidOf>
-void near_sorted(const dem_detail::CellList<D>& cells, const std::vector<Vec<D>>& x,
-                 const Vec<D>& p, double support, GidOf gid_of, std::vector<Near>& out) {
+void near_in_list(const std::vector<std::int32_t>& items, std::int32_t begin, std::int32_t end,
+                  const std::vector<Vec<D>>& x, const Vec<D>& p, double support, GidOf gid_of,
+                  std::vector<Near>& out) {
   out.clear();
   const double support2 = support * support;
-  cells.for_each_near(p, [&](std::int32_t j) {
+  for (std::int32_t k = begin; k < end; ++k) {
+    const std::int32_t j = items[static_cast<std::size_t>(k)];
     const double r2 = (p - x[static_cast<std::size_t>(j)]).squaredNorm();
     if (r2 < support2) out.push_back({gid_of(j), j, std::sqrt(r2)});
-  });
-  std::sort(out.begin(), out.end());
+  }
 }
-
-// Whether x lies within `margin` of the bounding box of the DEM particles:
-// resin farther away has no DEM neighbour, and is left out of the searches.
-template <int D>
-struct Reach {
-  Vec<D> lo, hi;
-  Reach(const DemParticles<D>& dem, double margin) {
-    lo = Vec<D>::Constant(std::numeric_limits<double>::infinity());
-    hi = -lo;
-    for (std::size_t f = 0; f < dem.size(); ++f) {
-      lo = lo.cwiseMin(dem.x[f]);
-      hi = hi.cwiseMax(dem.x[f]);
-    }
-    lo.array() -= margin;
-    hi.array() += margin;
-  }
-  bool contains(const Vec<D>& x) const {
-    return (x.array() >= lo.array()).all() && (x.array() <= hi.array()).all();
-  }
-};
 
 template <int D>
 double dem_volume(const DemParticles<D>& dem, std::size_t f) {
@@ -70,8 +51,8 @@ double dem_volume(const DemParticles<D>& dem, std::size_t f) {
 // next first kick uses. Runs after f's drag (mean_drag, drag_coeff).
 template <int D>
 void hydrodynamic_torque(const WendlandC2<D>& kernel, const SphParticles<D>& sph,
-                         const CouplingState<D>& st, const std::vector<Near>& near,
-                         DemParticles<D>& dem, std::size_t f, double dt, bool exponential) {
+                         const std::vector<Near>& near, DemParticles<D>& dem, std::size_t f,
+                         double dt, bool exponential) {
   const Rot<D> mean_torque = dt > 0 ? Rot<D>(dem.torque_impulse[f] / dt) : Rot<D>::Zero();
   dem.torque_impulse[f].setZero();
   dem.torque_coeff[f] = 0.0;
@@ -79,9 +60,7 @@ void hydrodynamic_torque(const WendlandC2<D>& kernel, const SphParticles<D>& sph
   dem.torque_lever[f].setZero();
   dem.resin_offset[f].setZero();
   if (dem.shepard_sum[f] > 0.0) {
-    const auto resin_of = [&](const Near& n) {
-      return static_cast<std::size_t>(st.resin_index[static_cast<std::size_t>(n.index)]);
-    };
+    const auto resin_of = [](const Near& n) { return static_cast<std::size_t>(n.index); };
     Vec<D> sum = Vec<D>::Zero();
     for (const Near& n : near) {
       const std::size_t r = resin_of(n);
@@ -122,31 +101,18 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
   dem.resin_velocity.assign(n_dem, Vec<D>::Zero());
   dem.resin_temperature.assign(n_dem, 0.0);
 
-  // Resin particles (owned and ghosts) near the fibers, in a cell list.
-  st.resin_index.clear();
-  st.resin_x.clear();
-  const Reach<D> reach(dem, support);
-  for (std::size_t r = 0; r < sph.size(); ++r) {
-    if (sph.kind[r] != Kind::Fluid || !reach.contains(sph.x[r])) continue;
-    st.resin_index.push_back(static_cast<std::int32_t>(r));
-    st.resin_x.push_back(sph.x[r]);
-  }
-  dem_detail::CellList<D> resin_cells;
-  resin_cells.build(st.resin_x, st.resin_x.size(), support, st.cell_start, st.cell_items);
-  std::vector<Near> near;
-  const auto resin_gid = [&](std::int32_t j) {
-    return sph.gid[static_cast<std::size_t>(st.resin_index[static_cast<std::size_t>(j)])];
-  };
-  // DEM particles (owned and ghosts), for the void fraction at x_f.
-  std::vector<std::int32_t> dem_start, dem_items;
-  dem_detail::CellList<D> dem_cells;
-  dem_cells.build(dem.x, n_dem, support, dem_start, dem_items);
+  if (!st.keep_pairs) st.pairs.invalidate();
+  update_coupling_pairs<D>(st.pairs, sph, dem, support, st.keep_pairs ? st.skin : 0.0,
+                           st.generation);
+  const CouplingPairs<D>& pairs = st.pairs;
+  std::vector<Near> near, near_dem;
+  const auto resin_gid = [&](std::int32_t j) { return sph.gid[static_cast<std::size_t>(j)]; };
   const auto dem_gid = [&](std::int32_t j) { return dem.gid[static_cast<std::size_t>(j)]; };
-  std::vector<Near> near_dem;
 
   for (std::size_t f = 0; f < dem.n_owned; ++f) {
     double phi = 0;
-    near_sorted<D>(dem_cells, dem.x, dem.x[f], support, dem_gid, near_dem);
+    near_in_list<D>(pairs.dem_items, pairs.dem_start[f], pairs.dem_start[f + 1], dem.x, dem.x[f],
+                    support, dem_gid, near_dem);
     for (const Near& n : near_dem) {
       phi +=
           terms::solid_fraction<D>(kernel, dem_volume(dem, static_cast<std::size_t>(n.index)), n.r);
@@ -156,9 +122,10 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
     terms::ShepardSum<D> shepard;
     double mu_sum = 0.0;  // sum_r V_r W_fr mu_r, a viscosity law's local viscosity
     double sum_t = 0.0;   // sum_r V_r W_fr T_r, the resin temperature's Shepard numerator
-    near_sorted<D>(resin_cells, st.resin_x, dem.x[f], support, resin_gid, near);
+    near_in_list<D>(pairs.resin_items, pairs.resin_start[f], pairs.resin_start[f + 1], sph.x,
+                    dem.x[f], support, resin_gid, near);
     for (const Near& n : near) {
-      const auto r = static_cast<std::size_t>(st.resin_index[static_cast<std::size_t>(n.index)]);
+      const auto r = static_cast<std::size_t>(n.index);
       const double vol_r = sph.mass[r] / sph.rho[r], w = kernel.w(n.r);
       shepard.add(vol_r, w, sph.v[r]);
       if (s.drag.local_viscosity) mu_sum += vol_r * w * sph.viscosity[r];
@@ -169,7 +136,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
       // sum_r w_r^2 / m_r, w_r = V_r W_fr / S_f, m_r per the DEM's depth.
       double inverse_sum = 0.0;
       for (const Near& n : near) {
-        const auto r = static_cast<std::size_t>(st.resin_index[static_cast<std::size_t>(n.index)]);
+        const auto r = static_cast<std::size_t>(n.index);
         const double w =
             shepard.has_resin() ? sph.mass[r] / sph.rho[r] * kernel.w(n.r) / shepard.s : 0.0;
         inverse_sum += w * w / (s.thickness * sph.mass[r]);
@@ -196,7 +163,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
       dem.drag_force[f] = drag;
     }
     if (s.hydrodynamic_torque)
-      hydrodynamic_torque<D>(kernel, sph, st, near, dem, f, dt, s.exponential_drag);
+      hydrodynamic_torque<D>(kernel, sph, near, dem, f, dt, s.exponential_drag);
   }
 }
 
@@ -206,54 +173,54 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
 // particles rather than by the whole resin.
 template <int D>
 Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
-                         SphParticles<D>& sph, std::vector<double>& resin_void_fraction,
-                         double& resin_drag_rate, double impulse_dt) {
+                         SphParticles<D>& sph, CouplingState<D>& st,
+                         std::vector<double>& resin_void_fraction, double& resin_drag_rate,
+                         double impulse_dt) {
   const WendlandC2<D> kernel(s.h);
   const double support = kernel.support();
   resin_void_fraction.assign(sph.n_owned, 1.0);
   resin_drag_rate = 0;
   Vec<D> total = Vec<D>::Zero();
   if (dem.size() == 0) return total;
-  // Owned resin particles near the fibers: they are the ones that receive.
-  std::vector<std::int32_t> resin;
-  std::vector<Vec<D>> resin_x;
-  const Reach<D> reach(dem, support);
-  for (std::size_t r = 0; r < sph.n_owned; ++r) {
-    if (sph.kind[r] != Kind::Fluid || !reach.contains(sph.x[r])) continue;
-    resin.push_back(static_cast<std::int32_t>(r));
-    resin_x.push_back(sph.x[r]);
-  }
-  std::vector<std::int32_t> start, items;
-  dem_detail::CellList<D> cells;
-  cells.build(resin_x, resin_x.size(), support, start, items);
-  std::vector<std::int32_t> order(dem.size());
-  for (std::size_t f = 0; f < dem.size(); ++f) order[f] = static_cast<std::int32_t>(f);
-  std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
-    return dem.gid[static_cast<std::size_t>(a)] < dem.gid[static_cast<std::size_t>(b)];
-  });
-  std::vector<Vec<D>> force(resin.size(), Vec<D>::Zero());
-  std::vector<double> phi(resin.size(), 0.0), phi_rate(resin.size(), 0.0), vol(resin.size());
+  // The drag pass's pairs (rebuilt only if the particles changed since).
+  update_coupling_pairs<D>(st.pairs, sph, dem, support, st.keep_pairs ? st.skin : 0.0,
+                           st.generation);
+  const CouplingPairs<D>& pairs = st.pairs;
+  // The owned resin particles near the fibers, by slot: the ones that receive.
+  const std::size_t n_slots = pairs.slot_resin.size();
+  std::vector<Vec<D>>& force = st.force;
+  std::vector<double>& phi = st.phi;
+  std::vector<double>& phi_rate = st.phi_rate;
+  std::vector<double>& vol = st.vol;
   // sum_f (V_r W_fr / S_f) K_f V_f: the drag coefficient r is held by [kg/s].
-  std::vector<double> held(resin.size(), 0.0);
-  std::vector<std::uint8_t> touched(resin.size(), 0);
-  for (std::size_t k = 0; k < resin.size(); ++k) {
-    const auto r = static_cast<std::size_t>(resin[k]);
+  std::vector<double>& held = st.held;
+  std::vector<std::uint8_t>& touched = st.touched;
+  force.assign(n_slots, Vec<D>::Zero());
+  phi.assign(n_slots, 0.0);
+  phi_rate.assign(n_slots, 0.0);
+  vol.resize(n_slots);
+  held.assign(n_slots, 0.0);
+  touched.assign(n_slots, 0);
+  for (std::size_t k = 0; k < n_slots; ++k) {
+    const auto r = static_cast<std::size_t>(pairs.slot_resin[k]);
     vol[k] = sph.mass[r] / sph.rho[r];
   }
   const double support2 = support * support;
-  for (const std::int32_t fi : order) {
+  for (const std::int32_t fi : pairs.dem_order) {
     const auto f = static_cast<std::size_t>(fi);
     const double vol_f = dem_volume(dem, f);
     // Each neighbour r takes V_r W_fr of -F_mean / S_f (reaction.hpp).
     const Vec<D> share = terms::reaction_per_weight<D>(dem.shepard_sum[f], dem.mean_drag[f]);
     const double coeff_per_weight =
         dem.shepard_sum[f] > 0.0 ? dem.drag_coeff[f] / dem.shepard_sum[f] : 0.0;
-    cells.for_each_near(dem.x[f], [&](std::int32_t k) {
+    for (std::int32_t c = pairs.resin_start[f]; c < pairs.resin_start[f + 1]; ++c) {
+      const std::int32_t k = pairs.resin_slot[static_cast<std::size_t>(c)];
+      if (k < 0) continue;  // a ghost: its owner receives
       const auto ku = static_cast<std::size_t>(k);
-      const auto r = static_cast<std::size_t>(resin[ku]);
+      const auto r = static_cast<std::size_t>(pairs.resin_items[static_cast<std::size_t>(c)]);
       const Vec<D> d = sph.x[r] - dem.x[f];
       const double dist2 = d.squaredNorm();
-      if (dist2 >= support2) return;
+      if (dist2 >= support2) continue;
       const double dist = std::sqrt(dist2);
       const double w = kernel.w(dist);
       force[ku] += (vol[ku] * w) * share;
@@ -266,11 +233,11 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
       phi_rate[ku] +=
           terms::solid_fraction_rate(vol_f, kernel.f(dist), (sph.v[r] - dem.v[f]).dot(d));
       touched[ku] = 1;
-    });
+    }
   }
-  for (std::size_t k = 0; k < resin.size(); ++k) {
+  for (std::size_t k = 0; k < n_slots; ++k) {
     if (!touched[k]) continue;
-    const auto r = static_cast<std::size_t>(resin[k]);
+    const auto r = static_cast<std::size_t>(pairs.slot_resin[k]);
     // 2D: the drag is per depth `thickness`, the resin's mass per metre.
     if (impulse_dt > 0) {
       if (!sph.is_frozen(r)) {
@@ -298,8 +265,10 @@ template void drag_on_fibers<2>(const CouplingSettings&, const SphParticles<2>&,
 template void drag_on_fibers<3>(const CouplingSettings&, const SphParticles<3>&, DemParticles<3>&,
                                 CouplingState<3>&, double);
 template Vec<2> reaction_on_resin<2>(const CouplingSettings&, const DemParticles<2>&,
-                                     SphParticles<2>&, std::vector<double>&, double&, double);
+                                     SphParticles<2>&, CouplingState<2>&, std::vector<double>&,
+                                     double&, double);
 template Vec<3> reaction_on_resin<3>(const CouplingSettings&, const DemParticles<3>&,
-                                     SphParticles<3>&, std::vector<double>&, double&, double);
+                                     SphParticles<3>&, CouplingState<3>&, std::vector<double>&,
+                                     double&, double);
 
 }  // namespace sphdem

@@ -2,6 +2,7 @@
 #include "sphdem/solver/coupling_module.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -24,6 +25,16 @@ CouplingModule<D>::CouplingModule(const RunContext<D>& ctx, ResinModule<D>& resi
   coupling_.void_fraction_in_continuity = c.fibers->void_fraction_in_continuity;
   coupling_.hydrodynamic_torque = c.fibers->hydrodynamic_torque;
   coupling_.exponential_drag = c.fibers->exponential_drag;
+  // The pairs live between passes with the resin's Verlet skin: the resin
+  // moves less than half of it between its rebuilds, which rebuild the
+  // fibers' lists too (a new DemDomain::rebuilds(), hence a new search).
+  cstate_.keep_pairs = true;
+  cstate_.skin = c.numerics.neighbor_skin * WendlandC2<D>(coupling_.h).support();
+}
+
+template <int D>
+void CouplingModule<D>::rebuild(bool /*restart*/) {
+  cstate_.pairs.invalidate();
 }
 
 // Drag on the fibers, then its reaction on the resin (coupling_loops.hpp);
@@ -34,13 +45,13 @@ void CouplingModule<D>::rates() {
   SphParticles<D>& ps = resin_.particles();
   DemDomain<D>& domain = fibers_.dem();
   DemParticles<D>& dem = domain.particles();
+  cstate_.generation = domain.rebuilds();
   drag_on_fibers<D>(coupling_, ps, dem, cstate_, fibers_.coupled_dt());
   domain.forward(DemGroup::Coupling);
   double rate = 0;
   const Vec<D> reaction =
-      reaction_on_resin<D>(coupling_, dem, ps, resin_eps_, rate,
+      reaction_on_resin<D>(coupling_, dem, ps, cstate_, resin_eps_, rate,
                            coupling_.exponential_drag ? fibers_.coupled_dt() : 0.0);
-  resin_drag_rate_ = ctx_.comm.max(rate);
   double drag_time = std::numeric_limits<double>::infinity();
   for (std::size_t f = 0; f < dem.n_owned; ++f) {
     if (dem.drag_coeff[f] > 0) drag_time = std::min(drag_time, dem.mass[f] / dem.drag_coeff[f]);
@@ -48,18 +59,21 @@ void CouplingModule<D>::rates() {
     if (dem.torque_coeff[f] > 0)
       drag_time = std::min(drag_time, dem.inertia[f] / dem.torque_coeff[f]);
   }
-  drag_time = ctx_.comm.min(drag_time);
-  fiber_drag_time_ = std::isfinite(drag_time) ? drag_time : 0.0;
-  // Exponential drag is stable at any sub-step and resin step.
-  fibers_.limit_substep(coupling_.exponential_drag ? 0.0 : fiber_drag_time_);
   // Diagnostics: total drag + total reaction, which must vanish.
-  std::vector<double> sums(2 * D + 1, 0.0);
+  std::array<double, 2 * D + 1> sums{};
   for (std::size_t f = 0; f < dem.n_owned; ++f) {
     for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(k)] += dem.mean_drag[f][k];
     sums[2 * D] += dem.mean_drag[f].norm();
   }
   for (int k = 0; k < D; ++k) sums[static_cast<std::size_t>(D + k)] = reaction[k];
-  ctx_.comm.sum(sums);
+  // One collective per pass: the largest rate, the smallest drag time and the sums.
+  std::array<double, 2> maxes{rate, -drag_time};
+  ctx_.comm.sum_max(sums, maxes);
+  resin_drag_rate_ = maxes[0];
+  drag_time = -maxes[1];
+  fiber_drag_time_ = std::isfinite(drag_time) ? drag_time : 0.0;
+  // Exponential drag is stable at any sub-step and resin step.
+  fibers_.limit_substep(coupling_.exponential_drag ? 0.0 : fiber_drag_time_);
   double residual = 0;
   for (int k = 0; k < D; ++k)
     residual +=

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "sphdem/coupling/coupling.hpp"
+#include "sphdem/coupling/coupling_pairs.hpp"
 #include "sphdem/particles/dem_particles.hpp"
 #include "sphdem/particles/particles.hpp"
 #include "sphdem/sph/kernel.hpp"
@@ -59,14 +60,24 @@ inline double drag_parcel_mass(double inverse_sum, int sharing) {
   return inverse_sum > 0 ? 0.5 / (inverse_sum * std::max(sharing, 1)) : 0.0;
 }
 
-// Scratch of drag_on_fibers, kept between passes to spare allocations. The
-// pass's results per DEM particle are fields of DemParticles
-// (dem_particles.hpp): shepard_sum, mean_drag, void_fraction,
-// resin_velocity.
+// What the passes keep between calls: the candidate pairs
+// (coupling_pairs.hpp) and scratch. The passes' results per DEM particle
+// are fields of DemParticles (dem_particles.hpp): shepard_sum, mean_drag,
+// void_fraction, resin_velocity.
 template <int D>
 struct CouplingState {
-  std::vector<std::int32_t> cell_start, cell_items, resin_index;
-  std::vector<Vec<D>> resin_x;
+  CouplingPairs<D> pairs;
+  // keep_pairs: the pairs live across passes, with a skin [m] (the caller
+  // sets `generation` anew whenever either side's particles may have been
+  // reordered, or invalidates the pairs). Otherwise every drag pass
+  // searches afresh (the reaction always uses the drag pass's pairs).
+  bool keep_pairs = false;
+  double skin = 0;
+  std::int64_t generation = 0;
+  // The reaction's accumulators, per slot (CouplingPairs::slot_resin).
+  std::vector<Vec<D>> force;
+  std::vector<double> phi, phi_rate, vol, held;
+  std::vector<std::uint8_t> touched;
 };
 
 // dt: the SPH step that just ended (0 at the start: no impulse yet).
@@ -75,8 +86,8 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
                     CouplingState<D>& st, double dt);
 
 // Reads the DEM particles' mean_drag, shepard_sum and drag_coeff, ghosts'
-// included. resin_drag_rate: the largest, over the owned resin, of
-// sum_f (V_r W_fr / S_f) K_f V_f / m_r [1/s], the rate at which the
+// included, and walks the pairs of the drag pass before it (`st`). resin_drag_rate: the largest,
+// over the owned resin, of sum_f (V_r W_fr / S_f) K_f V_f / m_r [1/s], the rate at which the
 // reaction relaxes a resin particle's velocity towards the fibers' (the
 // resin side of the exchange is explicit: docs/physics.md "The stable
 // window").
@@ -88,7 +99,8 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
 // at a wall).
 template <int D>
 Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
-                         SphParticles<D>& sph, std::vector<double>& resin_void_fraction,
-                         double& resin_drag_rate, double impulse_dt = 0.0);
+                         SphParticles<D>& sph, CouplingState<D>& st,
+                         std::vector<double>& resin_void_fraction, double& resin_drag_rate,
+                         double impulse_dt = 0.0);
 
 }  // namespace sphdem

@@ -22,6 +22,8 @@ class CouplingModule final : public Module<D> {
   // below kResinDragStep / (the largest resin drag rate of the last pass),
   // docs/physics.md "The stable window".
   std::optional<TimeStep> stable_dt() override;
+  // The particles were reordered: the coupling pairs are searched afresh.
+  void rebuild(bool restart) override;
   void rates() override;
   void write_checkpoint(CheckpointWriter& w) override;
   std::function<void()> read_checkpoint(CheckpointReader& r, const std::string& path) override;
