@@ -656,7 +656,7 @@ class ToolTest(unittest.TestCase):
         # plate: 240 x 16 particles x (0.25 mm)^2 x 900 / 960 = 225 of 320 mm^2; cavity: of 800
         self.assertRegex(fill[0], r"^0\.0500\s+0\.703\s+0\.281\s+-29\.9\s+29\.9\s+0\.1250\s+0\.100\s+1\.500")
         # both stations, the left one taken outwards (u_x < 0 there)
-        self.assertRegex(fill[1], r"1\.143 \| 1\.000 \(8, 0\.88 m/s\)\s+1\.143 \| 1\.000 \(8, 0\.88 m/s\)")  # mean 7/8
+        self.assertRegex(fill[1], r"1\.143, 1\.000 \(8, 0\.88 m/s\)\s+1\.143, 1\.000 \(8, 0\.88 m/s\)")  # mean 7/8
         self.assertRegex(fill[2], r"0\.250 / 0\.250\s+0\.250 / 0\.250")   # one row of 0.25 mm at each wall
         self.assertRegex(fill[3], r"1\.00 \(2\)\s+0\.00 \(2\)")   # arm_wall along x, arm_core along y
         self.assertIn("largest face pressure 2.000 MPa at t = 0.0200 s", r.stdout)

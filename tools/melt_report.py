@@ -205,7 +205,8 @@ def main():
                   fmt(r["right"] / MM, "%.1f"), fmt(r["frozen"], "%.4f"), fmt(r["speed"]),
                   fmt(r["pressure"] / 1e6, "%.3f")] for r in rows], a.markdown)
 
-    print("Profiles across the arms: peak/mean (all resin | flowing part), bins with resin of %d;"
+    print("Profiles across the arms: peak/mean of all resin, of the flowing part (bins with resin of %d,"
+          " mean speed);"
           " Newtonian in these bins %.3f (continuous 1.5), power law n = 0.3: %.3f"
           % (a.bins, poiseuille_bins(a.bins), power_law_ratio(0.3)))
     header = ["t [s]"] + ["x = %g mm" % s for s in a.stations]
@@ -217,7 +218,7 @@ def main():
             if st["bins"] < 3:
                 cells.append("-")
                 continue
-            cells.append("%s | %s (%d%s, %s m/s)" % (fmt(st["ratio"]), fmt(st["ratio_flowing"]), st["bins"],
+            cells.append("%s, %s (%d%s, %s m/s)" % (fmt(st["ratio"]), fmt(st["ratio_flowing"]), st["bins"],
                                                     "" if st["full"] else " partial", fmt(st["mean"], "%.2f")))
         body.append(cells)
     print_table(header, body, a.markdown)
@@ -297,7 +298,8 @@ def main():
         ax.set_xlabel("u_x outwards [m/s]")
         ax.grid(alpha=0.3)
     axes[0][0].set_ylabel("y [mm]")
-    axes[0][0].legend(fontsize=7)
+    busiest = max(range(len(a.stations)), key=lambda j: len(axes[0][j].get_lines()))
+    axes[0][busiest].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(a.output + "_profiles.png", dpi=90, bbox_inches="tight")
     plt.close(fig)
