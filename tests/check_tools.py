@@ -32,11 +32,12 @@ import fiber_orientation  # noqa: E402
 import fiber_counts  # noqa: E402
 import bond_stress  # noqa: E402
 import accum  # noqa: E402
+import melt_report  # noqa: E402
 
 MM = 1e-3
 ALL_TOOLS = ["plot_flow.py", "bond_stress.py", "fiber_orientation.py", "fiber_counts.py",
              "velocity_profile.py", "plot_snapshot.py", "plate_timeline.py", "accum.py",
-             "report.py", "render.py", "plot_scaling.py", "front_report.py"]
+             "report.py", "render.py", "plot_scaling.py", "front_report.py", "melt_report.py"]
 
 UNITS = {"position": "m", "velocity": "m/s", "density": "kg/m^3", "pressure": "Pa", "id": "1",
          "radius": "m", "fiber": "1", "angular_velocity": "rad/s", "nodes": "1",
@@ -610,6 +611,58 @@ class ToolTest(unittest.TestCase):
         self.assertIn("trapped_air: 1 rows", r.stdout)
         self.assertIn("2 mm^2", r.stdout)
         self.assertTrue(os.path.getsize(png) > 1000)
+
+    # --- melt_report.py: the real-melt plate's fill, profiles, frozen layers --
+
+    def test_melt_report(self):
+        # The plate's resin at a 0.25 mm spacing, x in [-30, 30] mm, 16 rows
+        # across the 4 mm gap; the top and bottom rows frozen at rest, the
+        # rest a plug at 1 m/s outwards. Two fibers along x near the top wall
+        # and two along y in the core of the arms.
+        run = os.path.join(self.dir, "melt")
+        os.makedirs(run)
+        dp = 0.25 * MM
+        with open(os.path.join(run, "case.yaml"), "w") as out:
+            out.write("name: melt\nresin:\n  density: 900\nnumerics:\n  spacing: 2.5e-4\n")
+        x = lattice(-30 * MM, 30 * MM, -4 * MM, 0.0, dp=dp)
+        frozen = ((x[:, 1] > -dp) | (x[:, 1] < -4 * MM + dp)).astype(float)
+        v = np.stack([np.where(frozen > 0.5, 0.0, np.sign(x[:, 0])), np.zeros(len(x))], axis=1)
+        dem = make_fibers([(-10 * MM, -0.5 * MM, 0.0), (10 * MM, -0.5 * MM, 0.0),
+                           (-15 * MM, -2 * MM, 90.0), (15 * MM, -2 * MM, 90.0)])
+        bath = lattice(-15 * MM, 15 * MM, 30 * MM, 60 * MM, dp=dp)
+        files = [(write_snapshot(run, "melt", 0, 0.0, fluid=(bath, np.zeros_like(bath))), 0.0)]
+        files.append((write_snapshot(run, "melt", 10, 0.05, fluid=(x, v), dem=dem), 0.05))
+        with h5py.File(files[-1][0], "a") as f:
+            _dataset(f["fluid"], "frozen", frozen)
+            f["fluid/density"][...] = 960.0  # compressed 1/15: each particle's area 15/16 spacing^2
+        write_xdmf(run, "melt", files)
+        with open(os.path.join(run, "melt_injection_pressure.csv"), "w") as f:
+            f.write("time_s,step,wall,speed_m_per_s,pressure_pa\n0,0,piston,1,0\n"
+                    "0.02,10,piston,0.5,2.0e6\n0.05,20,piston,0.1,1.5e6\n")
+        st = melt_report.station_profile(x, v[:, 0], frozen, 20 * MM, 2 * MM, 8, (-4 * MM, 0.0))
+        # 8 bins of two rows: the outer two half frozen (mean 0.5), six at 1.
+        self.assertTrue(st["full"])
+        self.assertAlmostEqual(st["ratio"], 8 / 7, places=12)
+        self.assertAlmostEqual(st["ratio_flowing"], 1.0, places=12)
+        self.assertEqual((st["frozen_top_count"], st["frozen_bottom_count"]), (8, 8))
+        self.assertAlmostEqual(melt_report.poiseuille_bins(400), 1.5, places=4)
+        self.assertLess(melt_report.poiseuille_bins(12), 1.5)
+        self.assertAlmostEqual(melt_report.power_law_ratio(1.0), 1.5, places=12)
+        prefix = self.out("melt")
+        r = run_tool("melt_report.py", run, "--bins", 8, "--stations", -20, 20, "-o", prefix)
+        self.assert_ok(r)
+        lines = r.stdout.splitlines()
+        fill = [ln for ln in lines if ln.startswith("0.0500")]
+        # plate: 240 x 16 particles x (0.25 mm)^2 x 900 / 960 = 225 of 320 mm^2; cavity: of 800
+        self.assertRegex(fill[0], r"^0\.0500\s+0\.703\s+0\.281\s+-29\.9\s+29\.9\s+0\.1250\s+0\.100\s+1\.500")
+        # both stations, the left one taken outwards (u_x < 0 there)
+        self.assertRegex(fill[1], r"1\.143, 1\.000 \(8, 0\.88 m/s\)\s+1\.143, 1\.000 \(8, 0\.88 m/s\)")  # mean 7/8
+        self.assertRegex(fill[2], r"0\.250 / 0\.250\s+0\.250 / 0\.250")   # one row of 0.25 mm at each wall
+        self.assertRegex(fill[3], r"1\.00 \(2\)\s+0\.00 \(2\)")   # arm_wall along x, arm_core along y
+        self.assertIn("largest face pressure 2.000 MPa at t = 0.0200 s", r.stdout)
+        self.assertRegex(lines[[i for i, ln in enumerate(lines) if ln.startswith("0.0000")][1]], r"-\s+-")
+        self.assert_png(prefix + "_fill.png")
+        self.assert_png(prefix + "_profiles.png")
 
     # --- every tool: --help and errors ---------------------------------------
 

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -82,6 +83,57 @@ TEST(ExactSum, ScaledTermsEqualTheLdexpOnes) {
   }
   EXPECT_EQ(exact_power(-1023), 0.0);
   EXPECT_EQ(exact_power(1024), 0.0);
+}
+
+// The vectorised dot product (split terms, two 64-bit sums) gives the
+// 128-bit sum of exact_term_scaled term by term, bitwise, at every scale,
+// ties (x.5 after scaling) and the largest terms (2^62) included; its max
+// is the largest |product| and +inf with an inf or a NaN.
+TEST(ExactSum, VectorisedDotEqualsTheTermByTermSum) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 200; ++trial) {
+    const std::size_t n = 1 + static_cast<std::size_t>(std::abs(u(rng)) * 3000);
+    std::vector<double> a(n), b(n);
+    const int spread = trial % 7 == 0 ? 250 : 40;  // products far below the grid too
+    for (std::size_t i = 0; i < n; ++i) {
+      a[i] = u(rng) * std::pow(2.0, static_cast<int>(spread * u(rng)));
+      b[i] = u(rng) * std::pow(2.0, static_cast<int>(spread * u(rng)));
+    }
+    if (trial % 5 == 1) a[n / 2] = 0.0;
+    double max = 0;
+    for (std::size_t i = 0; i < n; ++i) max = std::max(max, std::abs(a[i] * b[i]));
+    EXPECT_EQ(exact_dot_max(a.data(), b.data(), n), max) << trial;
+    const int s = exact_sum_scale(max);
+    const double power = exact_power(s);
+    ASSERT_GT(power, 0.0) << trial;
+    Int128 ref = 0;
+    for (std::size_t i = 0; i < n; ++i) ref += exact_term_scaled((a[i] * b[i]) * power);
+    EXPECT_TRUE(exact_dot_scaled(a.data(), b.data(), n, power) == ref) << trial;
+  }
+  // Ties and the ends of the range: q = (a b) 2^s exactly k + 0.5 and 2^62.
+  const double power = exact_power(exact_sum_scale(std::ldexp(1.0, 61)));  // 2^0: max term 2^61
+  std::vector<double> a = {0.5,
+                           1.5,
+                           2.5,
+                           -0.5,
+                           -1.5,
+                           -2.5,
+                           std::ldexp(1.0, 61),
+                           -std::ldexp(1.0, 61),
+                           std::ldexp(1.0, 40) + 0.5,
+                           3.0,
+                           std::ldexp(1.0, 31) + 0.5};
+  std::vector<double> b(a.size(), 1.0);
+  Int128 ref = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) ref += exact_term_scaled(a[i] * power);
+  EXPECT_TRUE(exact_dot_scaled(a.data(), b.data(), a.size(), power) == ref);
+  EXPECT_EQ(exact_term_scaled(2.5), 2);  // to nearest even, as llrint
+  a[3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(exact_dot_max(a.data(), b.data(), a.size()), std::numeric_limits<double>::infinity());
+  a[3] = -std::numeric_limits<double>::infinity();
+  EXPECT_EQ(exact_dot_max(a.data(), b.data(), a.size()), std::numeric_limits<double>::infinity());
+  EXPECT_EQ(exact_dot_max(a.data(), b.data(), 0), 0.0);
 }
 
 // ------------------------------------------------------------ the operator

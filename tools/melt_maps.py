@@ -23,6 +23,7 @@ for the profile and still draws the maps.
 examples:
   tools/melt_maps.py out/plate_melt_pp --time 0.005 --time 0.01 -o melt.png
   tools/melt_maps.py out/plate_melt_pp --x 20 --span -4 0 --bins 13 --csv profile.csv
+  tools/melt_maps.py out/plate_melt_pp --time 0.12 --xlim -41 41 --ylim -5 6 --dpi 70 -o plate.png
 """
 import argparse
 import os
@@ -52,6 +53,9 @@ def main():
     ap.add_argument("--bins", type=int, default=12, help="bins across the gap (default 12)")
     ap.add_argument("--tmin", type=float, help="lower end of the temperature colours [K] (default the data's)")
     ap.add_argument("--csv", help="write the profile bins to this CSV file")
+    ap.add_argument("--xlim", nargs=2, type=float, metavar=("X0", "X1"), help="map x range [mm] (default all)")
+    ap.add_argument("--ylim", nargs=2, type=float, metavar=("Y0", "Y1"), help="map y range [mm] (default all)")
+    ap.add_argument("--dpi", type=int, default=110, help="PNG resolution (default 110)")
     ap.add_argument("-o", "--output", default="melt_maps.png", help="PNG to write (default melt_maps.png)")
     a = ap.parse_args()
     snaps = [io.Snapshot(r) for r in io.snapshots_from_args(a)]
@@ -59,7 +63,8 @@ def main():
 
     plt = io.pyplot()
     from matplotlib.colors import LogNorm
-    fig, axes = plt.subplots(len(snaps), 3, figsize=(16, 3.4 * len(snaps)), squeeze=False,
+    zoom = a.xlim is not None or a.ylim is not None
+    fig, axes = plt.subplots(len(snaps), 3, figsize=(16, (2.2 if zoom else 3.4) * len(snaps)), squeeze=False,
                              gridspec_kw={"width_ratios": [1.4, 1.4, 1]})
     rows = []
     print("%-9s %8s %9s %9s %10s %10s %8s" % ("t [s]", "frozen", "T min", "T max", "eta min", "eta max",
@@ -81,6 +86,10 @@ def main():
                 io.draw_fibers(ax, fibers, lw=0.8)
             fig.colorbar(sc, ax=ax, label=label, shrink=0.8)
             ax.set_aspect("equal")
+            if a.xlim:
+                ax.set_xlim(*a.xlim)
+            if a.ylim:
+                ax.set_ylim(*a.ylim)
             ax.set_title("%s, t = %.4f s" % (s.case, s.time), fontsize=9)
             ax.set_xlabel("x [mm]")
             ax.set_ylabel("y [mm]")
@@ -106,7 +115,7 @@ def main():
     if a.csv:
         io.write_csv(a.csv, HEADER, rows)
     fig.tight_layout()
-    fig.savefig(a.output, dpi=110, bbox_inches="tight")
+    fig.savefig(a.output, dpi=a.dpi, bbox_inches="tight")
     plt.close(fig)
     print(a.output)
 
