@@ -1,9 +1,10 @@
 #pragma once
 // The per-particle record fields every term may declare in its Reads
-// (term_interface.hpp). A term that needs a quantity of its own computed
-// once per particle defines its field in its own header (pressure.hpp's
-// P/rho^2, anti_clump.hpp's R_a). The pair loop packs the fields the active terms declare, and only
-// those, into one record per particle.
+// (term_interface.hpp). A field that is a particle array (x, v, m, rho)
+// says which (stored()), and the pair loop gathers it where it lies; a
+// quantity computed once per particle (pressure.hpp's P/rho^2,
+// anti_clump.hpp's R_a, m/rho below) has fill(), and the loop prepares it
+// for every particle in a small array of such values alone.
 #include <cstddef>
 
 #include "term_interface.hpp"
@@ -14,8 +15,8 @@ namespace sphdem::terms::field {
 struct Pos : RelativeVectorField<Pos> {
   static constexpr const char* name = "x";
   template <int D>
-  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
-    for (int d = 0; d < D; ++d) out[d] = ps.x[i][d];
+  static const double* stored(const SphParticles<D>& ps) {
+    return as_doubles(ps.x);
   }
 };
 
@@ -23,8 +24,8 @@ struct Pos : RelativeVectorField<Pos> {
 struct Vel : RelativeVectorField<Vel> {
   static constexpr const char* name = "v";
   template <int D>
-  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
-    for (int d = 0; d < D; ++d) out[d] = ps.v[i][d];
+  static const double* stored(const SphParticles<D>& ps) {
+    return as_doubles(ps.v);
   }
 };
 
@@ -33,24 +34,24 @@ struct Vel : RelativeVectorField<Vel> {
 struct VelWall : RelativeVectorField<Vel> {
   static constexpr const char* name = "vwall";
   template <int D>
-  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
-    for (int d = 0; d < D; ++d) out[d] = ps.vwall[i][d];
+  static const double* stored(const SphParticles<D>& ps) {
+    return as_doubles(ps.vwall);
   }
 };
 
 struct Mass : ScalarField {
   static constexpr const char* name = "m";
   template <int D>
-  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
-    out[0] = ps.mass[i];
+  static const double* stored(const SphParticles<D>& ps) {
+    return as_doubles(ps.mass);
   }
 };
 
 struct Rho : ScalarField {
   static constexpr const char* name = "rho";
   template <int D>
-  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
-    out[0] = ps.rho[i];
+  static const double* stored(const SphParticles<D>& ps) {
+    return as_doubles(ps.rho);
   }
 };
 
