@@ -338,22 +338,25 @@ struct Sources<D, Fields<Fs...>, Prepared> {
       out[Record::template offset<F>() + c] = src[i * stride<F>() + c];
   }
 
-  // The lanes of neighbour j as pair k of the chunk.
+  // The lanes of the chunk's neighbours nb[0 .. cnt), field by field (one
+  // short loop per lane row, which the compiler vectorizes).
   template <class Lanes, class Record>
-  void gather(const double* own, std::size_t j, std::size_t k, double* lanes) const {
+  void gather(const double* own, const std::int32_t* nb, std::size_t cnt, double* lanes) const {
     std::size_t f = 0;
-    (lane<Lanes, Record, Fs>(own, base[f++], j, k, lanes), ...);
+    (lane<Lanes, Record, Fs>(own, base[f++], nb, cnt, lanes), ...);
   }
   template <class Lanes, class Record, class F>
-  static void lane(const double* own, const double* src, std::size_t j, std::size_t k,
+  static void lane(const double* own, const double* src, const std::int32_t* nb, std::size_t cnt,
                    double* lanes) {
-    constexpr std::size_t lo = Lanes::template offset<F>();
+    constexpr std::size_t lo = Lanes::template offset<F>(), w = stride<F>();
     for (std::size_t c = 0; c < width_v<F, D>; ++c) {
+      double* out = lanes + (lo + c) * kChunk;
       if constexpr (std::is_void_v<typename F::RelativeTo>) {
-        lanes[(lo + c) * kChunk + k] = src[j * stride<F>() + c];
+        for (std::size_t k = 0; k < cnt; ++k) out[k] = src[static_cast<std::size_t>(nb[k]) * w + c];
       } else {
-        constexpr std::size_t so = Record::template offset<typename F::RelativeTo>();
-        lanes[(lo + c) * kChunk + k] = own[so + c] - src[j * stride<F>() + c];
+        const double o = own[Record::template offset<typename F::RelativeTo>() + c];
+        for (std::size_t k = 0; k < cnt; ++k)
+          out[k] = o - src[static_cast<std::size_t>(nb[k]) * w + c];
       }
     }
   }
@@ -404,9 +407,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
         const std::size_t cnt = std::min(kChunk, e - b);
 
         // 1. Gather.
-        for (std::size_t k = 0; k < cnt; ++k)
-          lane_src.template gather<Lanes, Record>(own, static_cast<std::size_t>(nb[b + k]), k,
-                                                  lanes);
+        lane_src.template gather<Lanes, Record>(own, nb + b, cnt, lanes);
 
         // 2. Pair terms, branch-free (vectorized).
         for (std::size_t k = 0; k < cnt; ++k) {

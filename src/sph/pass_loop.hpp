@@ -141,8 +141,7 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
     double sums[kSums] = {};
     for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
       const std::size_t cnt = std::min(kChunk, e - b);
-      for (std::size_t k = 0; k < cnt; ++k)
-        lane_src.template gather<Lanes, Record>(own, static_cast<std::size_t>(nb[b + k]), k, lanes);
+      lane_src.template gather<Lanes, Record>(own, nb + b, cnt, lanes);
       for (std::size_t k = 0; k < cnt; ++k) {
         double r2 = 0.0;
         for (int d = 0; d < D; ++d) {
