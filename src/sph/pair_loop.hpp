@@ -1,13 +1,12 @@
 #pragma once
 // The resin's pair loop, generated from a list of terms (sph_terms.hpp;
 // what a term is: term_interface.hpp). For the terms a case switches on it
-//   0. computes the prepared fields those terms declare (and only those),
-//      such as P/rho^2 or anti-clump's R_a, once per particle into one
-//      scratch array (the stored fields, x, v, m, rho, are not copied);
+//   0. packs one record per particle with the fields those terms declare
+//      (and only those), computing prepared fields such as P/rho^2 or
+//      anti-clump's R_a once per particle, back to back;
 //   per owned resin particle i, per chunk of up to kChunk neighbours:
-//   1. gathers the declared lanes of each neighbour j, from the particle
-//      arrays and the prepared array, into short contiguous arrays (x_ij,
-//      v_ij, the neighbour's scalars);
+//   1. gathers the declared lanes of each neighbour j into short
+//      contiguous arrays (x_ij, v_ij, the neighbour's scalars);
 //   2. runs one branch-free loop over the lanes that the compiler
 //      vectorizes: the kernel values, then every active term's pair
 //      function in list order (pairs beyond the support get F = 0, a select
@@ -71,26 +70,6 @@ struct MergeAll {
 template <bool kSources, class L, class M, class... Ms>
 struct MergeAll<kSources, L, M, Ms...> {
   using type = typename MergeAll<kSources, typename Merge<L, M, kSources>::type, Ms...>::type;
-};
-
-// The fields of L that are not particle arrays: computed once per particle
-// (fill()) into the prepared array.
-template <int D, class L>
-struct PreparedOf;
-template <int D>
-struct PreparedOf<D, Fields<>> {
-  using type = Fields<>;
-};
-template <int D, class F, class... Rest>
-struct PreparedOf<D, Fields<F, Rest...>> {
-  using rest = typename PreparedOf<D, Fields<Rest...>>::type;
-  template <class R>
-  struct Prepend;
-  template <class... Rs>
-  struct Prepend<Fields<Rs...>> {
-    using type = Fields<F, Rs...>;
-  };
-  using type = std::conditional_t<StoredField<F, D>, rest, typename Prepend<rest>::type>;
 };
 
 // Where each field of L sits in a record (or a lane block) of D-dimensional doubles.
@@ -226,23 +205,21 @@ struct Needs<D, TermList<S...>> {
   using LaneFields = typename MergeAll<false, Core, typename S::Term::Reads...>::type;
   using RecordFields = typename MergeAll<true, Fields<>, LaneFields,
                                          typename OwnReadsOf<typename S::Term>::type...>::type;
-  using PreparedFields = typename PreparedOf<D, RecordFields>::type;
   using Lanes = Layout<D, LaneFields>;
-  using Record = Layout<D, RecordFields>;      // particle i's values (a local array)
-  using Prepared = Layout<D, PreparedFields>;  // per particle, in the prepared array
+  using Record = Layout<D, RecordFields>;
+  // No padding to whole cache lines: 88 bytes per particle on the channel
+  // instead of 128 (docs/performance.md, "Memory per particle").
+  static constexpr std::size_t kStride = Record::kSize;
 };
 
 // ---- The loop ---------------------------------------------------------------
 
-// The prepared fields of every particle (ghosts included), back to back:
-// one array shared by the pair loop and the passes, which never run at the
-// same time (the records of copied x, v, m, rho it replaces were the
-// largest per-particle array after the fields: docs/performance.md,
-// "Memory per particle").
-inline std::vector<double>& prepared_scratch() {
-  thread_local std::vector<double> values;
-  return values;
-}
+// One particle's record, its fields back to back (unpadded: the records are
+// the largest per-particle array after the fields).
+template <std::size_t kStride>
+struct PackedRecord {
+  double v[kStride];
+};
 
 template <class T, int D>
 T make_term(const TermContext<D>& c) {
@@ -284,79 +261,25 @@ struct FillRecord<D, Fields<Fs...>> {
   }
 };
 
-// Fills the prepared array (resized to n particles) and returns it; null
-// when the loop prepares nothing.
-template <int D, class Prepared, class PreparedFields>
-const double* prepare(const SphParams& sp, const SphParticles<D>& ps) {
-  if constexpr (Prepared::kSize == 0) {
-    return nullptr;
-  } else {
-    std::vector<double>& values = prepared_scratch();
-    const std::size_t n = ps.size();
-    resize_field(values, n * Prepared::kSize);  // a small margin, not a doubling
-    double* out = values.data();
-    for (std::size_t i = 0; i < n; ++i)
-      FillRecord<D, PreparedFields>::template run<Prepared>(sp, ps, i, out + i * Prepared::kSize);
-    return out;
+template <int D, class Fs>
+struct GatherLanes;
+template <int D, class... Fs>
+struct GatherLanes<D, Fields<Fs...>> {
+  // rj is an array element, not a computed pointer: GCC then vectorizes
+  // the gather over k (AVX-512 gathers).
+  template <class Lanes, class Record, class R>
+  static void run(const double* own, const R& rj, std::size_t k, double* lanes) {
+    (one<Lanes, Record, Fs>(own, rj, k, lanes), ...);
   }
-}
-
-// Where the loop reads each field of Fs: a particle array (stored fields,
-// a stride of their width) or the prepared array (a stride of its record).
-template <int D, class Fs, class Prepared>
-struct Sources;
-template <int D, class... Fs, class Prepared>
-struct Sources<D, Fields<Fs...>, Prepared> {
-  std::array<const double*, sizeof...(Fs)> base;
-
-  Sources(const SphParticles<D>& ps, const double* prepared) : base{base_of<Fs>(ps, prepared)...} {}
-
-  template <class F>
-  static const double* base_of(const SphParticles<D>& ps, const double* prepared) {
-    if constexpr (StoredField<F, D>)
-      return F::template stored<D>(ps);
-    else
-      return prepared + Prepared::template offset<F>();
-  }
-  template <class F>
-  static constexpr std::size_t stride() {
-    if constexpr (StoredField<F, D>)
-      return width_v<F, D>;
-    else
-      return Prepared::kSize;
-  }
-
-  // Particle i's values of Fs, at their places in Record.
-  template <class Record>
-  void fill_own(std::size_t i, double* out) const {
-    std::size_t f = 0;
-    (copy<Record, Fs>(base[f++], i, out), ...);
-  }
-  template <class Record, class F>
-  static void copy(const double* src, std::size_t i, double* out) {
-    for (std::size_t c = 0; c < width_v<F, D>; ++c)
-      out[Record::template offset<F>() + c] = src[i * stride<F>() + c];
-  }
-
-  // The lanes of the chunk's neighbours nb[0 .. cnt), field by field (one
-  // short loop per lane row, which the compiler vectorizes).
-  template <class Lanes, class Record>
-  void gather(const double* own, const std::int32_t* nb, std::size_t cnt, double* lanes) const {
-    std::size_t f = 0;
-    (lane<Lanes, Record, Fs>(own, base[f++], nb, cnt, lanes), ...);
-  }
-  template <class Lanes, class Record, class F>
-  static void lane(const double* own, const double* src, const std::int32_t* nb, std::size_t cnt,
-                   double* lanes) {
-    constexpr std::size_t lo = Lanes::template offset<F>(), w = stride<F>();
+  template <class Lanes, class Record, class F, class R>
+  static void one(const double* own, const R& rj, std::size_t k, double* lanes) {
+    constexpr std::size_t lo = Lanes::template offset<F>(), ro = Record::template offset<F>();
     for (std::size_t c = 0; c < width_v<F, D>; ++c) {
-      double* out = lanes + (lo + c) * kChunk;
       if constexpr (std::is_void_v<typename F::RelativeTo>) {
-        for (std::size_t k = 0; k < cnt; ++k) out[k] = src[static_cast<std::size_t>(nb[k]) * w + c];
+        lanes[(lo + c) * kChunk + k] = rj.v[ro + c];
       } else {
-        const double o = own[Record::template offset<typename F::RelativeTo>() + c];
-        for (std::size_t k = 0; k < cnt; ++k)
-          out[k] = o - src[static_cast<std::size_t>(nb[k]) * w + c];
+        constexpr std::size_t so = Record::template offset<typename F::RelativeTo>();
+        lanes[(lo + c) * kChunk + k] = own[so + c] - rj.v[ro + c];
       }
     }
   }
@@ -368,15 +291,19 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   using N = Needs<D, Sel>;
   using Lanes = typename N::Lanes;
   using Record = typename N::Record;
+  constexpr std::size_t kStride = N::kStride;
   constexpr unsigned kWrites = N::kWrites;
 
   const WendlandC2<D> kernel(sp.h);
   const TermContext<D> ctx{sp, kernel, kernel.w(0.0) / 16.0};
 
-  // 0. The prepared fields (every particle, ghosts included).
-  const double* prepared = prepare<D, typename N::Prepared, typename N::PreparedFields>(sp, ps);
-  const Sources<D, typename N::RecordFields, typename N::Prepared> own_src(ps, prepared);
-  const Sources<D, typename N::LaneFields, typename N::Prepared> lane_src(ps, prepared);
+  // 0. The records (every particle, ghosts included).
+  thread_local std::vector<PackedRecord<kStride>> records;
+  const std::size_t n = ps.size();
+  resize_field(records, n);  // a small margin, not a doubling
+  PackedRecord<kStride>* rec = records.data();
+  for (std::size_t i = 0; i < n; ++i)
+    FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
 
   [&]<class... S>(TermList<S...>) {
     const std::tuple<typename S::Term...> terms{make_term<typename S::Term>(ctx)...};
@@ -391,11 +318,10 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     alignas(64) double lanes[Lanes::kSize * kChunk];
     alignas(64) double acc_lane[D][kChunk];  // per-pair acceleration
     alignas(64) double drho_lane[kChunk];    // per-pair density rate
-    alignas(64) double own[Record::kSize];   // particle i's values
 
     for (std::size_t i = 0; i < ps.n_owned; ++i) {
       if (ps.kind[i] != Kind::Fluid) continue;
-      own_src.template fill_own<Record>(i, own);
+      const double* own = rec[i].v;
       const std::tuple<typename S::Term...> bound{for_particle(
           std::get<typename S::Term>(terms),
           OwnView<Record, typename MergeAll<false, typename S::Term::Reads,
@@ -407,7 +333,9 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
         const std::size_t cnt = std::min(kChunk, e - b);
 
         // 1. Gather.
-        lane_src.template gather<Lanes, Record>(own, nb + b, cnt, lanes);
+        for (std::size_t k = 0; k < cnt; ++k)
+          GatherLanes<D, typename N::LaneFields>::template run<Lanes, Record>(own, rec[nb[b + k]],
+                                                                              k, lanes);
 
         // 2. Pair terms, branch-free (vectorized).
         for (std::size_t k = 0; k < cnt; ++k) {
@@ -466,10 +394,9 @@ struct LoopDescription {
   std::size_t combination = 0;
   std::vector<std::string> terms;
   std::vector<int> variants;
-  std::vector<std::string> record;    // particle i's fields (own values)
-  std::vector<std::string> lanes;     // fields gathered per neighbour
-  std::vector<std::string> prepared;  // fields computed once per particle
-  std::size_t record_bytes = 0;       // per particle: the prepared array's
+  std::vector<std::string> record;  // fields packed per particle
+  std::vector<std::string> lanes;   // fields gathered per neighbour
+  std::size_t record_bytes = 0;
 };
 
 template <int D, class List, std::size_t C>
@@ -483,8 +410,7 @@ LoopDescription describe_loop() {
   }(typename Registry<List>::template Select<C>{});
   out.record = N::Record::names();
   out.lanes = N::Lanes::names();
-  out.prepared = N::Prepared::names();
-  out.record_bytes = N::Prepared::kSize * sizeof(double);
+  out.record_bytes = N::kStride * sizeof(double);
   return out;
 }
 

@@ -29,8 +29,8 @@
 // The free-surface pass's flag for the anti-clump term alone is such a Lite
 // (terms/free_surface.hpp, FreeSurfaceFlag).
 //
-// The loop is the pair loop's (pair_loop.hpp): the declared fields
-// prepared or read where they lie, gathered lanes, a branch-free pair function over a chunk (pairs
+// The loop is the pair loop's (pair_loop.hpp): records of the declared
+// fields, gathered lanes, a branch-free pair function over a chunk (pairs
 // beyond the support have F = 0), then a sequential sum in the neighbour
 // list's global-id order, so the result is the same bits at every rank
 // count. It writes the owned resin particles (walls get 0); the solver
@@ -101,21 +101,22 @@ template <int D, class P>
 void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
   using LaneFields = typename MergeAll<false, Fields<field::Pos>, typename P::Reads>::type;
   using RecordFields = typename MergeAll<true, Fields<>, LaneFields>::type;
-  using PreparedFields = typename PreparedOf<D, RecordFields>::type;
   using Lanes = Layout<D, LaneFields>;
   using Record = Layout<D, RecordFields>;
-  using Prepared = Layout<D, PreparedFields>;
   using View = PairView<D, Lanes, Record, typename P::Reads, Fields<>>;
+  constexpr std::size_t kStride = Record::kSize;  // unpadded, as the pair loop's
   constexpr std::size_t kSums = P::template kSums<D>;
 
   const WendlandC2<D> kernel(sp.h);
   const TermContext<D> ctx{sp, kernel, kernel.w(0.0) / 16.0};
   const P pass = make_term<P>(ctx);
 
-  // The prepared fields (the pair loop's array: the two never run at once).
-  const double* prepared = prepare<D, Prepared, PreparedFields>(sp, ps);
-  const Sources<D, RecordFields, Prepared> own_src(ps, prepared);
-  const Sources<D, LaneFields, Prepared> lane_src(ps, prepared);
+  thread_local std::vector<PackedRecord<kStride>> records;
+  const std::size_t n = ps.size();
+  resize_field(records, n);  // a small margin, not a doubling
+  PackedRecord<kStride>* rec = records.data();
+  for (std::size_t i = 0; i < n; ++i)
+    FillRecord<D, RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
 
   const double support2 = 4.0 * sp.h * sp.h;
   const double inv_h = 1.0 / sp.h;
@@ -124,7 +125,6 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
   constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
   alignas(64) double lanes[Lanes::kSize * kChunk];
   alignas(64) double part[kSums][kChunk];
-  alignas(64) double own[Record::kSize];  // particle i's values
   std::vector<double>& out = P::output(ps);
 
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
@@ -137,11 +137,12 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
       if constexpr (requires { pass.template clear<D>(ps, i); }) pass.template clear<D>(ps, i);
       continue;
     }
-    own_src.template fill_own<Record>(i, own);
+    const double* own = rec[i].v;
     double sums[kSums] = {};
     for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
       const std::size_t cnt = std::min(kChunk, e - b);
-      lane_src.template gather<Lanes, Record>(own, nb + b, cnt, lanes);
+      for (std::size_t k = 0; k < cnt; ++k)
+        GatherLanes<D, LaneFields>::template run<Lanes, Record>(own, rec[nb[b + k]], k, lanes);
       for (std::size_t k = 0; k < cnt; ++k) {
         double r2 = 0.0;
         for (int d = 0; d < D; ++d) {

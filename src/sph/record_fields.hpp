@@ -1,10 +1,9 @@
 #pragma once
 // The per-particle record fields every term may declare in its Reads
-// (term_interface.hpp). A field that is a particle array (x, v, m, rho)
-// says which (stored()), and the pair loop gathers it where it lies; a
-// quantity computed once per particle (pressure.hpp's P/rho^2,
-// anti_clump.hpp's R_a, m/rho below) has fill(), and the loop prepares it
-// for every particle in a small array of such values alone.
+// (term_interface.hpp). A term that needs a quantity of its own computed
+// once per particle defines its field in its own header (pressure.hpp's
+// P/rho^2, anti_clump.hpp's R_a). The pair loop packs the fields the active terms declare, and only
+// those, into one record per particle.
 #include <cstddef>
 
 #include "term_interface.hpp"
@@ -15,8 +14,8 @@ namespace sphdem::terms::field {
 struct Pos : RelativeVectorField<Pos> {
   static constexpr const char* name = "x";
   template <int D>
-  static const double* stored(const SphParticles<D>& ps) {
-    return as_doubles(ps.x);
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    for (int d = 0; d < D; ++d) out[d] = ps.x[i][d];
   }
 };
 
@@ -24,8 +23,8 @@ struct Pos : RelativeVectorField<Pos> {
 struct Vel : RelativeVectorField<Vel> {
   static constexpr const char* name = "v";
   template <int D>
-  static const double* stored(const SphParticles<D>& ps) {
-    return as_doubles(ps.v);
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    for (int d = 0; d < D; ++d) out[d] = ps.v[i][d];
   }
 };
 
@@ -34,24 +33,24 @@ struct Vel : RelativeVectorField<Vel> {
 struct VelWall : RelativeVectorField<Vel> {
   static constexpr const char* name = "vwall";
   template <int D>
-  static const double* stored(const SphParticles<D>& ps) {
-    return as_doubles(ps.vwall);
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    for (int d = 0; d < D; ++d) out[d] = ps.vwall[i][d];
   }
 };
 
 struct Mass : ScalarField {
   static constexpr const char* name = "m";
   template <int D>
-  static const double* stored(const SphParticles<D>& ps) {
-    return as_doubles(ps.mass);
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    out[0] = ps.mass[i];
   }
 };
 
 struct Rho : ScalarField {
   static constexpr const char* name = "rho";
   template <int D>
-  static const double* stored(const SphParticles<D>& ps) {
-    return as_doubles(ps.rho);
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    out[0] = ps.rho[i];
   }
 };
 

@@ -18,13 +18,9 @@
 // it prepares per particle, like anti-clump's R_a) is a struct with a name,
 // a width (scalar or D components), how its lane is formed (the
 // neighbour's value, or particle i's value of RelativeTo minus the
-// neighbour's) and either stored(), the particle array it is (gathered
-// from there), or fill(), which computes it for one particle (prepared
-// once per particle into a scratch array of such fields alone).
-#include <concepts>
+// neighbour's) and fill(), which computes it for one particle.
 #include <cstddef>
 #include <type_traits>
-#include <vector>
 
 #include "sphdem/particles/particles.hpp"
 #include "sphdem/sph/kernel.hpp"
@@ -65,19 +61,6 @@ struct RelativeVectorField {
 
 template <class F, int D>
 inline constexpr std::size_t width_v = F::kVector ? D : 1;
-
-// A particle array as doubles (a Vec<D> is D doubles back to back).
-template <class T>
-const double* as_doubles(const std::vector<T>& v) {
-  static_assert(std::is_same_v<T, double> || IsDoubleVector<T>::value);
-  return reinterpret_cast<const double*>(v.data());
-}
-
-// A field that is a particle array (stored()): gathered where it lies.
-template <class F, int D>
-concept StoredField = requires(const SphParticles<D>& ps) {
-  { F::template stored<D>(ps) } -> std::same_as<const double*>;
-};
 
 // What a pair contributes. The loop combines them as
 //   a_ij = visc v~_ij - m_j bracket F x_ij,   drho_ij = drho,

@@ -38,8 +38,8 @@ namespace field {
 struct FreeSurface : ScalarField {
   static constexpr const char* name = "free_surface";
   template <int D>
-  static const double* stored(const SphParticles<D>& ps) {
-    return as_doubles(ps.free_surface);
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    out[0] = ps.free_surface[i];
   }
 };
 }  // namespace field

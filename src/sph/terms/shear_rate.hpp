@@ -33,8 +33,8 @@ namespace field {
 struct ShearRate : ScalarField {
   static constexpr const char* name = "shear_rate";
   template <int D>
-  static const double* stored(const SphParticles<D>& ps) {
-    return as_doubles(ps.shear_rate);
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    out[0] = ps.shear_rate[i];
   }
 };
 }  // namespace field

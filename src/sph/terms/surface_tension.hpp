@@ -56,8 +56,8 @@ struct CsfNormal {
   using RelativeTo = void;
   static constexpr const char* name = "csf_normal";
   template <int D>
-  static const double* stored(const SphParticles<D>& ps) {
-    return as_doubles(ps.csf_normal);
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    for (int d = 0; d < D; ++d) out[d] = ps.csf_normal[i][d];
   }
 };
 // A wall particle's unit normal into the resin (0 for resin).
@@ -96,15 +96,15 @@ struct ContactSin : ScalarField {
 struct Colour : ScalarField {
   static constexpr const char* name = "colour";
   template <int D>
-  static const double* stored(const SphParticles<D>& ps) {
-    return as_doubles(ps.colour);
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    out[0] = ps.colour[i];
   }
 };
 struct Curvature : ScalarField {
   static constexpr const char* name = "curvature";
   template <int D>
-  static const double* stored(const SphParticles<D>& ps) {
-    return as_doubles(ps.curvature);
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    out[0] = ps.curvature[i];
   }
 };
 }  // namespace field

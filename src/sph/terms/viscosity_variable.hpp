@@ -52,8 +52,8 @@ namespace field {
 struct Viscosity : ScalarField {
   static constexpr const char* name = "viscosity";
   template <int D>
-  static const double* stored(const SphParticles<D>& ps) {
-    return as_doubles(ps.viscosity);
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    out[0] = ps.viscosity[i];
   }
 };
 }  // namespace field
