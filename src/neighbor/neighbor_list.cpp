@@ -2,6 +2,8 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <span>
+#include <stdexcept>
 
 #include "sphdem/neighbor/neighbor.hpp"
 
@@ -48,20 +50,29 @@ Grid<D> make_grid(const std::vector<Vec<D>>& x, std::size_t count, double cell) 
   return g;
 }
 
-// Counting sort of particles into cells.
+// One int32 scratch array shared by the binning of the list build and the
+// sort by cell (never live at once), kept across rebuilds (no fresh pages
+// at every rebuild): 8 bytes per particle where the two held 24
+// (docs/performance.md, "Memory per particle").
+std::int32_t* int_scratch(std::size_t n) {
+  thread_local std::vector<std::int32_t> scratch;
+  resize_field(scratch, n);
+  return scratch.data();
+}
+
+// Counting sort of the first `count` particles into cells: items[start[c]
+// .. start[c + 1]) are cell c's particles, in index order. cell_of and
+// items hold `count` entries each.
 template <int D>
 void bin(const Grid<D>& g, const std::vector<Vec<D>>& x, std::size_t count,
-         std::vector<std::int32_t>& start, std::vector<std::int32_t>& items) {
+         std::vector<std::int32_t>& start, std::int32_t* cell_of, std::int32_t* items) {
   start.assign(static_cast<std::size_t>(g.cells()) + 1, 0);
-  // Scratch kept across rebuilds (no fresh pages at every rebuild).
-  thread_local std::vector<std::int32_t> cell_of, fill;
-  cell_of.resize(count);
+  thread_local std::vector<std::int32_t> fill;
   for (std::size_t i = 0; i < count; ++i) {
     cell_of[i] = static_cast<std::int32_t>(g.index(x[i]));
     ++start[static_cast<std::size_t>(cell_of[i]) + 1];
   }
   std::partial_sum(start.begin(), start.end(), start.begin());
-  items.resize(count);
   fill.assign(start.begin(), start.end() - 1);
   for (std::size_t i = 0; i < count; ++i) items[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
 }
@@ -73,7 +84,9 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
   const std::size_t n = ps.size(), n_own = ps.n_owned;
   const double rc = cutoff(), rc2 = rc * rc;
   const Grid<D> g = make_grid<D>(ps.x, n, rc);
-  bin<D>(g, ps.x, n, cell_start_, cell_items_);
+  std::int32_t* scratch = int_scratch(2 * n);
+  const std::int32_t* cell_items = scratch + n;
+  bin<D>(g, ps.x, n, cell_start_, scratch, scratch + n);
 
   offset_.assign(n_own + 1, 0);
   index_.clear();
@@ -93,7 +106,7 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
         for (long cx = lo[0]; cx <= hi[0]; ++cx) {
           const long cell = (cz * g.n[1] + cy) * g.n[0] + cx;
           for (std::int32_t s = cell_start_[cell]; s < cell_start_[cell + 1]; ++s) {
-            const std::int32_t j = cell_items_[s];
+            const std::int32_t j = cell_items[s];
             if (static_cast<std::size_t>(j) == i) continue;
             if (wall_i && ps.kind[j] == Kind::Wall) continue;
             if ((xi - ps.x[j]).squaredNorm() < rc2) index_.push_back(j);
@@ -108,7 +121,9 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
                 return std::lexicographical_compare(ps.x[a].begin(), ps.x[a].end(), ps.x[b].begin(),
                                                     ps.x[b].end());
               });
-    offset_[i + 1] = index_.size();
+    if (index_.size() > std::numeric_limits<std::uint32_t>::max())
+      throw std::length_error("sphdem: more than 2^32 neighbour pairs on one rank");
+    offset_[i + 1] = static_cast<std::uint32_t>(index_.size());
   }
   x_at_build_.assign(ps.x.begin(), ps.x.begin() + static_cast<std::ptrdiff_t>(n_own));
   ++builds_;
@@ -126,18 +141,19 @@ bool NeighborList<D>::needs_rebuild(const SphParticles<D>& ps) const {
 
 template <int D>
 void sort_by_cell(SphParticles<D>& ps, double cell) {
-  const Grid<D> g = make_grid<D>(ps.x, ps.n_owned, cell);
-  // Scratch kept across rebuilds (no fresh pages at every rebuild).
-  thread_local std::vector<long> key;
-  thread_local std::vector<std::size_t> order;
-  key.resize(ps.n_owned);
-  for (std::size_t i = 0; i < ps.n_owned; ++i) key[i] = g.index(ps.x[i]);
-  order.resize(ps.n_owned);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return key[a] != key[b] ? key[a] < key[b] : ps.gid[a] < ps.gid[b];
-  });
-  ps.permute_owned(order);
+  const std::size_t n = ps.n_owned;
+  const Grid<D> g = make_grid<D>(ps.x, n, cell);
+  // By cell (a counting sort), then by global id within each cell: the
+  // order of sorting by the pair (cell, gid), with 8 bytes of scratch per
+  // particle instead of a long key and a size_t order.
+  thread_local std::vector<std::int32_t> start;
+  std::int32_t* cell_of = int_scratch(2 * n);
+  std::int32_t* order = cell_of + n;
+  bin<D>(g, ps.x, n, start, cell_of, order);
+  for (std::size_t c = 0; c + 1 < start.size(); ++c)
+    std::sort(order + start[c], order + start[c + 1],
+              [&](std::int32_t a, std::int32_t b) { return ps.gid[a] < ps.gid[b]; });
+  permute_owned_fields(ps, std::span<const std::int32_t>(order, n));
 }
 
 template class NeighborList<2>;

@@ -39,12 +39,13 @@ class NeighborList {
 
  private:
   double support_, skin_;
-  std::vector<std::size_t> offset_;
+  std::vector<std::uint32_t> offset_;  // 4 bytes per particle (build checks the count)
   std::vector<std::int32_t> index_;
   std::vector<Vec<D>> x_at_build_;
   std::int64_t builds_ = 0;
-  // Cell grid scratch, kept to avoid reallocations.
-  std::vector<std::int32_t> cell_start_, cell_items_;
+  // The cell grid's starts, kept to avoid reallocations (the binning's
+  // per-particle scratch is shared with sort_by_cell: neighbor_list.cpp).
+  std::vector<std::int32_t> cell_start_;
 };
 
 // Reorders owned particles by cell of size `cell` (then by global id) for

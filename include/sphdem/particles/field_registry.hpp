@@ -23,6 +23,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -114,14 +115,18 @@ std::size_t record_bytes(const P& ps, Want want) {
 // In place, so the fields keep their memory across rebuilds (no fresh
 // vectors, no page faults; docs/performance.md, "Rebuilds"): an increasing
 // list is compacted forward, a permutation is followed cycle by cycle.
-template <class P>
-void permute_owned_fields(P& ps, const std::vector<std::size_t>& order) {
+// Index: std::size_t, or std::int32_t (the sort by cell's, half the scratch).
+template <class P, class Index>
+void permute_owned_fields(P& ps, std::span<const Index> order) {
+  static_assert(std::is_integral_v<Index>);
   const std::size_t m = order.size();
+  const auto at = [&](std::size_t k) { return static_cast<std::size_t>(order[k]); };
   const bool increasing = std::is_sorted(order.begin(), order.end());
   thread_local std::vector<bool> done;
   if (!increasing) {
     done.assign(m, false);
-    for (const std::size_t j : order) {
+    for (std::size_t k = 0; k < m; ++k) {
+      const std::size_t j = at(k);  // a negative index wraps to a large one
       if (j >= m || done[j]) throw std::logic_error("sphdem: permute_owned: not a permutation");
       done[j] = true;
     }
@@ -129,7 +134,7 @@ void permute_owned_fields(P& ps, const std::vector<std::size_t>& order) {
   ps.for_each_field([&](const char*, auto& field, FieldPolicy) {
     if (increasing) {
       // order[k] >= k: slot order[k] is read before anything overwrites it.
-      for (std::size_t k = 0; k < m; ++k) field[k] = field[order[k]];
+      for (std::size_t k = 0; k < m; ++k) field[k] = field[at(k)];
       return;
     }
     done.assign(m, false);
@@ -137,7 +142,7 @@ void permute_owned_fields(P& ps, const std::vector<std::size_t>& order) {
       if (done[s]) continue;
       const auto first = field[s];
       std::size_t k = s;
-      for (std::size_t j = order[k]; j != s; k = j, j = order[k]) {
+      for (std::size_t j = at(k); j != s; k = j, j = at(k)) {
         field[k] = field[j];
         done[k] = true;
       }
@@ -145,6 +150,11 @@ void permute_owned_fields(P& ps, const std::vector<std::size_t>& order) {
       done[k] = true;
     }
   });
+}
+
+template <class P, class Index>
+void permute_owned_fields(P& ps, const std::vector<Index>& order) {
+  permute_owned_fields(ps, std::span<const Index>(order));
 }
 
 // Grows a field by a small margin instead of doubling (std::vector's
