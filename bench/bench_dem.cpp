@@ -67,7 +67,7 @@ struct Options {
   long rebalance = 1000;  // sub-steps between load checks (0: never re-partition)
   double imbalance = 0.05;
   bool breakdown = true;
-  double skin = 1.0;  // pair-list skin wanted, in particle radii (cells of (2 + skin) R)
+  double skin = 1.0;  // pair-list skin, in particle radii (DemParams::max_skin)
   std::uint64_t seed = 77231;
 };
 
@@ -84,8 +84,8 @@ void usage() {
       "  --settle       run S sub-steps untimed first, then time S more (a settled pile)\n"
       "  --rebalance K  every K sub-steps re-partition when the owned-particle imbalance\n"
       "                 exceeds --imbalance (default 1000, 0.05; 0 = never)\n"
-      "  --skin S       decomposition cells of (2 + S) R, which lets DemDomain use a pair-list\n"
-      "                 skin of up to S R (it caps it at 1 R; default 1)\n"
+      "  --skin S       a pair-list skin of S R (DemParams::max_skin; decomposition cells of\n"
+      "                 at least (2 + S) R leave it room; default 1)\n"
       "  --no-breakdown do not time the phases of the sub-step\n"
       "Prints M particle-steps/s over the whole process (as the peer) and the loop, the\n"
       "breakdown (rank 0 and the slowest rank), and a state hash (same for any rank count).");
@@ -134,6 +134,7 @@ DemSystem<3> make_3d(const Options& o, Setup& s) {
 
   std::mt19937_64 rng(o.seed);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
+  sys.particles.reserve(4 * static_cast<std::size_t>(n_fib));
   int placed = 0;
   for (int k = 0; k < g[2] && placed < n_fib; ++k) {
     for (int j = 0; j < g[1] && placed < n_fib; ++j) {
@@ -269,6 +270,7 @@ int run(const Options& o, DemSystem<D> sys, double dt, const Box<D>& box,
   Decomposition<D> dec(comm, box, {false, false, false},
                        std::max({DemDomain<D>::reach(r, r), (2.0 + o.skin) * r, 8.5 * r}));
   dec.partition(particles_per_cell(dec, sys.particles), true);
+  sys.params.max_skin = o.skin;
   DemDomain<D> dom(dec, sys.params, sys.walls, std::move(sys.particles));
   const double t_setup = std::chrono::duration<double>(Clock::now() - t_start).count();
 
@@ -333,9 +335,10 @@ int run(const Options& o, DemSystem<D> sys, double dt, const Box<D>& box,
   // Breakdown: rank 0's and the slowest rank's (by loop time).
   const double others = loop - prof.pairs - prof.gather - prof.walls - prof.kick_drift - prof.halo -
                         prof.collective - prof.rebuild - t_rebalance;
-  std::vector<double> mine{prof.pairs,        prof.gather,  prof.walls,  prof.kick_drift, prof.halo,
-                           prof.collective,   prof.rebuild, t_rebalance, others,          loop,
-                           prof.rebuild_pairs};
+  std::vector<double> mine{
+      prof.pairs,         prof.gather,          prof.walls,         prof.kick_drift, prof.halo,
+      prof.collective,    prof.rebuild,         t_rebalance,        others,          loop,
+      prof.rebuild_pairs, prof.rebuild_migrate, prof.rebuild_ghosts};
   std::vector<double> all(comm.root() ? mine.size() * static_cast<std::size_t>(comm.size()) : 0);
   MPI_Gather(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(),
              static_cast<int>(mine.size()), MPI_DOUBLE, 0, comm.raw());
@@ -379,7 +382,10 @@ int run(const Options& o, DemSystem<D> sys, double dt, const Box<D>& box,
         }
         std::printf("\n");
       }
-      std::printf("  (of the rebuilds, pair-list build: %.3f s)\n", all[10]);
+      std::printf(
+          "  (of the rebuilds, rank 0: pair-list build %.3f s, migration %.3f s, ghost build %.3f "
+          "s)\n",
+          all[10], all[11], all[12]);
     }
     std::printf("state hash %016llx\n", static_cast<unsigned long long>(hash));
   }

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -202,6 +203,57 @@ TEST(FieldRegistry, GhostsAndMigrationFollowThePolicies) {
 
 // The real registries: what a per-step exchange costs, what output.fields
 // may name, what a checkpoint holds (old checkpoints stay readable).
+// migrate_in_place (the DEM's rebuild) ends with the same particles as
+// migrate, each with the same kMigrate fields, and a particle that stays
+// keeps every field (moved into a hole or not); with every particle
+// moving across the ranks and with all of them crowding to one side (more
+// departures than arrivals on one rank, fewer on another).
+TEST(FieldRegistry, MigrationInPlaceMatchesMigration) {
+  const Comm world(MPI_COMM_WORLD);
+  const Decomposition<2> dec = decomposition(world);
+  const std::vector<std::function<Vec<2>(std::int64_t)>> moves{
+      [](std::int64_t g) {
+        Vec<2> x = home(g);
+        x[0] = x[0] + 0.5 >= 1 ? x[0] - 0.5 : x[0] + 0.5;
+        return x;
+      },
+      [](std::int64_t g) { return Vec<2>(0.5 * home(g)[0], home(g)[1]); },
+      [](std::int64_t g) { return Vec<2>(0.5 + 0.5 * home(g)[0], 1 - home(g)[1]); }};
+  for (const auto& moved_x : moves) {
+    TestParticles a = all_particles();
+    dec.keep_owned(a);
+    for (std::size_t i = 0; i < a.n_owned; ++i) {
+      a.x[i] = moved_x(a.gid[i]);
+      a.local[i] = value(a.gid[i], 6);  // kLocal: only a particle that stays keeps it
+    }
+    std::vector<std::int64_t> before(a.gid.begin(), a.gid.end());
+    std::sort(before.begin(), before.end());
+    TestParticles b = a;
+    const MigrationCounts ma = migrate<2>(dec, a);
+    const MigrationCounts mb = migrate_in_place<2>(dec, b);
+    EXPECT_EQ(ma.sent, mb.sent);
+    EXPECT_EQ(ma.received, mb.received);
+    ASSERT_EQ(a.n_owned, b.n_owned);
+    ASSERT_EQ(b.size(), b.n_owned);
+    std::vector<std::size_t> by_gid(40, a.n_owned);
+    for (std::size_t i = 0; i < a.n_owned; ++i) by_gid[static_cast<std::size_t>(a.gid[i])] = i;
+    for (std::size_t i = 0; i < b.n_owned; ++i) {
+      const std::int64_t g = b.gid[i];
+      const std::size_t j = by_gid[static_cast<std::size_t>(g)];
+      ASSERT_LT(j, a.n_owned) << "gid " << g;
+      EXPECT_EQ(dec.owner(b.x[i]), world.rank());
+      EXPECT_EQ(b.x[i], a.x[j]);
+      EXPECT_EQ(b.moves[i], value(g, 4));
+      if (std::binary_search(before.begin(), before.end(), g)) {
+        EXPECT_EQ(b.built[i], value(g, 1));
+        EXPECT_EQ(b.local[i], value(g, 6));
+        EXPECT_EQ(b.saved[i], g + 7);
+      }
+    }
+    EXPECT_EQ(world.sum(static_cast<std::int64_t>(b.n_owned)), 40);
+  }
+}
+
 TEST(FieldRegistry, SphAndDemRegistries) {
   EXPECT_EQ(forward_bytes(2, SphGroup::State), 8u * 6);  // x, v, rho, temperature
   EXPECT_EQ(forward_bytes(3, SphGroup::State), 8u * 8);

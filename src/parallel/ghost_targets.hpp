@@ -3,6 +3,7 @@
 // shared by the SPH halo and the DEM halo, and the ghost build itself.
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "exchange.hpp"
@@ -81,6 +82,43 @@ inline void ghost_targets(const Decomposition<D>& dec, const Vec<D>& x, double r
       }
 }
 
+// Whether a cell is interior: its neighbor cells (within the grid) are all
+// this rank's and none lies across a periodic face, so a particle in it
+// needs no copy anywhere (ghost_targets would find none). Decided once per
+// cell visited, so a ghost build looks at the 26 neighbors of the cells
+// near a rank boundary only.
+template <int D>
+class InteriorCells {
+ public:
+  explicit InteriorCells(const Decomposition<D>& dec)
+      : dec_(dec), state_(static_cast<std::size_t>(dec.grid().cells()), kUnknown) {}
+  bool contains(const Vec<D>& x) {
+    const CellGrid<D>& g = dec_.grid();
+    const auto c = g.coords(x);
+    std::uint8_t& s = state_[static_cast<std::size_t>(g.index(c))];
+    if (s == kUnknown) s = decide(g, c) ? kInterior : kBoundary;
+    return s == kInterior;
+  }
+
+ private:
+  static constexpr std::uint8_t kUnknown = 0, kInterior = 1, kBoundary = 2;
+  bool decide(const CellGrid<D>& g, const typename CellGrid<D>::Coords& c) const {
+    const int me = dec_.comm().rank();
+    const long z = D == 3 ? 1 : 0;
+    for (long oz = -z; oz <= z; ++oz)
+      for (long oy = -1; oy <= 1; ++oy)
+        for (long ox = -1; ox <= 1; ++ox) {
+          Vec<D> shift;
+          const long cell = offset_cell<D>(g, c, {ox, oy, oz}, shift);
+          if (cell < 0) continue;  // outside a closed face: nobody there
+          if (!shift.isZero(0.0) || dec_.owner_of_cell(cell) != me) return false;
+        }
+    return true;
+  }
+  const Decomposition<D>& dec_;
+  std::vector<std::uint8_t> state_;
+};
+
 // Collective. Drops the ghosts of `ps` (SPH or DEM particles) and appends
 // the new ones after the owned particles, ordered by source rank, then by
 // the source's local order, with every kGhost field (positions shifted).
@@ -98,7 +136,9 @@ void build_ghosts(const Decomposition<D>& dec, P& ps, double range, GhostPlan<D>
   std::vector<Vec<D>> shifts;
   std::vector<GhostTarget<D>> targets;
   std::vector<std::int64_t> counts(ranks, 0);
+  InteriorCells<D> interior(dec);
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (interior.contains(ps.x[i])) continue;
     ghost_targets<D>(dec, ps.x[i], range, targets);
     for (const GhostTarget<D>& t : targets) {
       copies.emplace_back(t.rank, i);

@@ -37,5 +37,7 @@ template MigrationCounts migrate<2>(const Decomposition<2>&, SphParticles<2>&);
 template MigrationCounts migrate<3>(const Decomposition<3>&, SphParticles<3>&);
 template MigrationCounts migrate<2>(const Decomposition<2>&, DemParticles<2>&);
 template MigrationCounts migrate<3>(const Decomposition<3>&, DemParticles<3>&);
+template MigrationCounts migrate_in_place<2>(const Decomposition<2>&, DemParticles<2>&);
+template MigrationCounts migrate_in_place<3>(const Decomposition<3>&, DemParticles<3>&);
 
 }  // namespace sphdem

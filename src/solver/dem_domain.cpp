@@ -30,16 +30,15 @@ DemDomain<D>::DemDomain(const Decomposition<D>& dec, const DemParams<D>& params,
   if (input == Input::Share) n_global_ = comm.sum(n_global_);
   // The skin: at least skin(r_min); more when the decomposition's cells
   // leave room beyond 2 R_max (the halo must stay within one cell), up to
-  // kMaxSkin r_min. A wider skin means fewer rebuilds (each one a
+  // params.max_skin r_min. A wider skin means fewer rebuilds (each one a
   // migration, a ghost build and a pair-list build) for a few more
   // candidate pairs. The grid is the same on every rank, so is the skin;
   // the results do not depend on it (the list is complete either way).
-  constexpr double kMaxSkin = 1.0;  // LAMMPS granular decks: 0.3 d = 0.6 R
   double s = skin(r_min);
   if (n_global_ > 0) {
     double cell = std::numeric_limits<double>::infinity();
     for (int k = 0; k < D; ++k) cell = std::min(cell, dec_.grid().size(k));
-    s = std::max(s, std::min(cell - 2.0 * r_max, kMaxSkin * r_min));
+    s = std::max(s, std::min(cell - 2.0 * r_max, params_.max_skin * r_min));
   }
   ws_.skin = n_global_ > 0 ? s : 0;
   range_ = std::max(halo_range, n_global_ > 0 ? 2.0 * r_max + s : 0.0);
@@ -84,12 +83,18 @@ void DemDomain<D>::rebuild() {
   wrap_periodic<D>(ps_, dec_.grid().box(), periodic);
   // One rank: migration would keep every particle in its order (a copy of
   // every field); dropping the ghosts is all it does.
+  // Several: only the particles that change rank are copied (every DEM sum
+  // runs in gid order, so the local order does not matter).
+  dem_detail::DemTimer t_migrate(dem_detail::dem_profile().rebuild_migrate);
   if (dec_.comm().size() > 1) {
-    migrate<D>(dec_, ps_);
+    migrate_in_place<D>(dec_, ps_);
   } else {
     ps_.clear_ghosts();
   }
+  t_migrate.stop();
+  dem_detail::DemTimer t_ghosts(dem_detail::dem_profile().rebuild_ghosts);
   halo_.build(dec_, ps_, range_);
+  t_ghosts.stop();
   dem_build_pairs(params_, walls_, ps_, ws_);
   ++rebuilds_;
 }

@@ -50,6 +50,10 @@ struct DemParams {
   // and torque are no forces; each kick relaxes v towards drag_velocity
   // (and omega towards resin_spin) by the exact exponential instead.
   bool exponential_drag = false;
+  // The decomposed run's pair-list skin may grow to this many r_min where
+  // the decomposition's cells leave room (DemDomain): a wider skin rebuilds
+  // less often for a few more candidate pairs; results do not depend on it.
+  double max_skin = 1.0;
 };
 
 // The contact stiffness of docs/dem.md: a fraction of the bond's axial

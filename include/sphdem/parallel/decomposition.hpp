@@ -197,4 +197,11 @@ struct MigrationCounts {
 template <int D, class P>
 MigrationCounts migrate(const Decomposition<D>& dec, P& ps);
 
+// Collective. As migrate, copying only the particles that change rank:
+// arrivals take the departures' slots, so the kept particles' order
+// changes (for containers whose results do not depend on the local order,
+// the DEM particles: every sum runs in gid order).
+template <int D, class P>
+MigrationCounts migrate_in_place(const Decomposition<D>& dec, P& ps);
+
 }  // namespace sphdem

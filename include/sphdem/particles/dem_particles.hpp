@@ -204,6 +204,11 @@ struct DemParticles {
   std::size_t n_ghost() const { return size() - n_owned; }
 
   void clear_ghosts() { resize(n_owned); }
+  // Room for n particles in every field: a generator that knows its count
+  // appends without moving the fields again and again (push_owned).
+  void reserve(std::size_t n) {
+    for_each_field([n](const char*, auto& field, FieldPolicy) { field.reserve(n); });
+  }
   void permute_owned(const std::vector<std::size_t>& order) { permute_owned_fields(*this, order); }
 
   // Appends one owned particle at rest (only valid while there are no
