@@ -342,15 +342,22 @@ using testing_fountain::slope;
 // travels 26 mm = 6.5 W), sampled every 0.05 s from 0.5 s (the front's
 // shape settles within about one W of travel, 0.4 s).
 // (a) The front advances at the mean velocity U (mass conservation with a
-//     front of steady shape). Bound 10 %: the measured excess is 6.4 % (tip;
-//     contact 5.1 %), the particles spreading without their density following
-//     (an open defect, docs/validation.md section 17), with margin.
+//     front of steady shape). Bound 3 %. It ran 6.4 % fast (contact 5.1 %)
+//     while particle shifting spread the particles without their density
+//     following; with numerics.shifting_continuity (the case's) the resin
+//     covers a constant area and the tip runs at 1.00 U over 0.5-1.6 s
+//     (docs/validation.md section 17).
 // (b) Fountain kinematics: the centre-line particles of the initial front
 //     (its two columns, either side of the centre line) reach the front's
-//     stagnation point, turn and are laid on the walls: at the end each is
-//     within 2 spacings of a wall and more than W/2 behind the tip (measured:
-//     on the walls from about 1.6-1.9 s, 34-48 spacings behind the tip at
-//     2.5 s).
+//     stagnation point, turn and are laid on the walls: at the end each has
+//     left the centre line (more than W/4 off it) and at least three are
+//     within 2 spacings of a wall and more than W/2 behind the tip. A
+//     particle that close to the dividing streamline stays at the
+//     stagnation point longest, and one of the four may still be turning
+//     at 2.6 s (with shifting_continuity: three on the walls 14-40 spacings
+//     behind the tip, the fourth 2.3 spacings from a wall and 4.7 behind the
+//     tip, rounding the corner; before it, when the front ran 6 % fast, all
+//     four were on the walls from 1.6-1.9 s).
 // (c) The shape: the tip leads the wall contact by about half the channel
 //     width. For particle centres a semicircular front gives (W - dp) / 2 (the
 //     wall row's centre dp/2 from the wall, the tip's dp/2 behind the
@@ -370,13 +377,14 @@ TEST(Fountain, TheFrontAdvancesAtTheMeanVelocityAndLaysTheCoreOnTheWalls) {
   const double semicircle = 0.5 * (ch.width - ch.dp);
   std::printf("front speed %.4f U (contact %.4f U), lead %.3f of the semicircle's (%.2f dp)\n",
               speed / ch.speed, contact_speed / ch.speed, lead / semicircle, lead / ch.dp);
-  EXPECT_NEAR(speed / ch.speed, 1.0, 0.10) << "(a) the front advances at the mean velocity";
-  EXPECT_NEAR(contact_speed / ch.speed, 1.0, 0.10) << "(a) and so does its wall contact";
+  EXPECT_NEAR(speed / ch.speed, 1.0, 0.03) << "(a) the front advances at the mean velocity";
+  EXPECT_NEAR(contact_speed / ch.speed, 1.0, 0.03) << "(a) and so does its wall contact";
   EXPECT_GT(lead / semicircle, 0.7) << "(c) the tip leads the wall contact by about W/2";
   EXPECT_LT(lead / semicircle, 1.15) << "(c) the tip leads the wall contact by about W/2";
 
   ASSERT_EQ(ch.tracers.size(), 4u);
   const double tip = ch.tip.back();
+  int laid = 0;
   for (const std::int64_t id : ch.tracers) {
     const auto r = std::lower_bound(ch.rows.begin(), ch.rows.end(), id,
                                     [](const Row& a, std::int64_t g) { return a.gid < g; });
@@ -385,9 +393,10 @@ TEST(Fountain, TheFrontAdvancesAtTheMeanVelocityAndLaysTheCoreOnTheWalls) {
     const double to_wall = std::min(y, ch.width - y);
     std::printf("tracer %lld: %.2f dp behind the tip, %.2f dp from a wall\n",
                 static_cast<long long>(id), (tip - x) / ch.dp, to_wall / ch.dp);
-    EXPECT_LT(to_wall, 2 * ch.dp) << "(b) tracer " << id << " is laid on a wall";
-    EXPECT_GT(tip - x, 0.5 * ch.width) << "(b) tracer " << id << " is behind the front";
+    EXPECT_LT(to_wall, 0.25 * ch.width) << "(b) tracer " << id << " has left the centre line";
+    if (to_wall < 2 * ch.dp && tip - x > 0.5 * ch.width) ++laid;
   }
+  EXPECT_GE(laid, 3) << "(b) the tracers are laid on the walls behind the front";
 }
 
 // (d) 2 ranks give the 1-rank run bitwise: positions and velocities of every

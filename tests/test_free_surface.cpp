@@ -3,10 +3,12 @@
 // ambient pressure: tests/test_ambient_pressure.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
@@ -77,11 +79,104 @@ TEST(ParticleShifting, BulkFollowsTheGradientSurfaceOnlyTangentially) {
   ps.free_surface[1] = 1.0;
   ps.surface_normal[1] = Vec<2>(0, 1);
   const double dt = 1e-6;
-  shift_particles<2>(sp, dt, ps);
+  const NeighborList<2> nl{2.0 * sp.h, 0.1 * sp.h};  // read only by shifting_continuity
+  shift_particles<2>(sp, dt, nl, ps, [](SphGroup) {});
   const Vec<2> bulk = -2.0 * sp.h * 5.0 * dt * g;
   EXPECT_NEAR((ps.x[0] - bulk).norm(), 0.0, 1e-18);
   EXPECT_NEAR(ps.x[1][0] - 1.0, bulk[0], 1e-15);  // x = 1 + dx: round-off of 1
   EXPECT_EQ(ps.x[1][1], 1.0);
+}
+
+// numerics.shifting_continuity: the shift enters the density as the
+// continuity equation's sum, so for equal masses rho_i - m sum_j W_ij (the
+// continuity density less the summation density) does not change under a
+// shift, up to the shift's second order; without it the density stays put
+// while the summation density falls (a shift down grad C spreads the
+// particles). A patch of 9 x 9 jittered resin particles on a row of
+// walls, shifted as in a step; checked at the 25 inner resin particles.
+struct ShiftPatch {
+  SphParams sp;
+  SphParticles<2> ps;
+  NeighborList<2> nl{2.4e-3, 0.24e-3};
+  double summation(std::size_t i) const {
+    const WendlandC2<2> kernel(sp.h);
+    double s = 0.0;
+    for (std::size_t j = 0; j < ps.size(); ++j)
+      s += ps.mass[j] * kernel.w((ps.x[i] - ps.x[j]).norm());
+    return s;
+  }
+};
+
+ShiftPatch jittered_patch(bool continuity) {
+  ShiftPatch b;
+  b.sp.h = 1.2e-3;
+  b.sp.spacing = 1e-3;
+  b.sp.shifting = 2.0;
+  b.sp.shifting_continuity = continuity;
+  b.sp.grad_scale = gradient_lattice_correction(2, 1.2);
+  const double m = 1000 * 1e-6;
+  std::int64_t id = 0;
+  for (int i = 0; i < 9; ++i) {
+    for (int j = 0; j < 9; ++j) {
+      // a fixed jitter of up to 0.15 dp
+      const double jx = 0.15e-3 * std::sin(1.7 * i + 3.1 * j),
+                   jy = 0.15e-3 * std::cos(2.3 * i - 1.3 * j);
+      b.ps.push_owned(id++, Kind::Fluid, -1, m, Vec<2>(i * 1e-3 + jx, j * 1e-3 + jy),
+                      Vec<2>(0.5, 0.0), 1000);
+    }
+  }
+  for (int i = -2; i < 11; ++i)
+    b.ps.push_owned(id++, Kind::Wall, -1, m, Vec<2>(i * 1e-3, -1e-3), Vec<2>::Zero(), 1000);
+  b.nl.build(b.ps);
+  // The shifting gradient sum_j V_j grad W_ij (no tensile part), no surface.
+  const WendlandC2<2> kernel(b.sp.h);
+  for (std::size_t i = 0; i < b.ps.n_owned; ++i) {
+    Vec<2> g = Vec<2>::Zero();
+    for (std::size_t j = 0; j < b.ps.size(); ++j) {
+      const Vec<2> x_ij = b.ps.x[i] - b.ps.x[j];
+      if (j != i)
+        g += (b.ps.mass[j] / b.ps.rho[j] * kernel.f(x_ij.norm()) * b.sp.grad_scale) * x_ij;
+    }
+    b.ps.shifting_gradient[i] = g;
+  }
+  return b;
+}
+
+TEST(ParticleShifting, ContinuityMakesTheDensityFollowTheShift) {
+  for (const bool continuity : {false, true}) {
+    ShiftPatch b = jittered_patch(continuity);
+    std::vector<double> before(b.ps.n_owned), rho0(b.ps.n_owned);
+    for (std::size_t i = 0; i < b.ps.n_owned; ++i) {
+      before[i] = b.ps.rho[i] - b.sp.grad_scale * b.summation(i);
+      rho0[i] = b.ps.rho[i];
+    }
+    const double dt = 2e-6;  // shifts of at most 1e-3 dp: their second order is negligible
+    shift_particles<2>(b.sp, dt, b.nl, b.ps, [](SphGroup) {});
+    double moved = 0, worst = 0, summation_change = 0, density_change = 0;
+    int inner = 0;
+    for (std::size_t i = 0; i < b.ps.n_owned; ++i) {
+      const int col = static_cast<int>(b.ps.gid[i]) / 9, row = static_cast<int>(b.ps.gid[i]) % 9;
+      if (col < 2 || col > 6 || row < 2 || row > 6) continue;
+      ++inner;
+      const double after = b.ps.rho[i] - b.sp.grad_scale * b.summation(i);
+      worst = std::max(worst, std::abs(after - before[i]));
+      summation_change += b.sp.grad_scale * b.summation(i) - (rho0[i] - before[i]);
+      density_change += b.ps.rho[i] - rho0[i];
+      moved = std::max(moved, b.ps.shift.empty() ? 0.0 : b.ps.shift[i].norm());
+    }
+    ASSERT_EQ(inner, 25);
+    std::printf(
+        "[          ] continuity %d: summed summation density change %.4g, density %.4g, worst "
+        "%.3g\n",
+        continuity, summation_change, density_change, worst);
+    EXPECT_LT(summation_change, -1.0);  // the shift spreads the particles
+    if (continuity) {
+      EXPECT_GT(moved, 1e-7);
+      EXPECT_LT(worst, 0.02 * std::abs(summation_change) / inner);
+    } else {
+      EXPECT_EQ(density_change, 0.0);
+    }
+  }
 }
 
 // Issue 18: the Taylor-Green vortex at the default h = 1.2 dp, which clumps

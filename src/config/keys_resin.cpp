@@ -299,6 +299,12 @@ Section<Numerics> make_numerics() {
                             "A of the shift -A h |v| dt grad C (Skillen et al. 2013: 1 to 6)")
                          .identity()),
       unless_default(
+          boolean("shifting_continuity", &N::shifting_continuity,
+                  "the shift enters the continuity density as a velocity would, so the "
+                  "density follows the particles' spacing (without it shifting spreads the "
+                  "resin); see `docs/physics.md`")
+              .identity()),
+      unless_default(
           boolean("wall_repulsion", &N::wall_repulsion,
                   "a short-range repulsion of the wall particles on resin closer than 0.9 dp "
                   "(Monaghan 1994): no resin crosses a wall in an impact; see `docs/physics.md`")

@@ -299,7 +299,10 @@ void ResinModule<D>::correct(double dt) {
       if (sp_.thermal) ps_.temperature[i] = ps_.temp_half[i] + half * ps_.dtemp[i];
     }
   }
-  shift_particles<D>(sp_, dt, ps_);
+  shift_particles<D>(sp_, dt, nl_, ps_, [this](SphGroup g) {
+    ScopedPhase t(timers_, Phase::Halo);
+    halo_.forward(ps_, g);
+  });
 }
 
 // The implicit viscous step (implicit_viscosity.hpp) on the velocities of

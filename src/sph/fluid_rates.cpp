@@ -61,6 +61,7 @@ void drop_unused_fields(const SphParams& sp, bool slip_walls, SphParticles<D>& p
       {"surface_normal", surface_normal},
       {"position_divergence", named("position_divergence")},
       {"shifting_gradient", sp.shifting > 0.0},
+      {"shift", sp.shifting_continuity},
       {"colour", tension},
       {"csf_normal", tension},
       {"curvature", runs("curvature")},

@@ -33,6 +33,7 @@ SphParams make_sph_params(const Case& c) {
   sp.front_events = c.output.front_events;
   sp.eta2 = 0.01 * sp.h * sp.h;
   sp.shifting = c.numerics.particle_shifting ? c.numerics.shifting_coefficient : 0.0;
+  sp.shifting_continuity = sp.shifting > 0.0 && c.numerics.shifting_continuity;
   sp.wall_repulsion = c.numerics.wall_repulsion;
   sp.free_surface_traction = c.numerics.free_surface_traction;
   sp.body_force = c.body_force;

@@ -103,6 +103,8 @@ struct Numerics {
   // Particle shifting (Lind et al. 2012; Skillen et al. 2013), free-surface aware.
   bool particle_shifting = false;
   double shifting_coefficient = 2.0;
+  // The shift enters the continuity density (src/sph/particle_shifting.cpp).
+  bool shifting_continuity = false;
   // Monaghan (1994) repulsive force of the wall particles on the resin.
   bool wall_repulsion = true;
   // The viscous traction at the free surface: the (grad v)^T part the

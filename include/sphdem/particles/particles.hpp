@@ -34,6 +34,7 @@ enum class Kind : std::uint8_t { Fluid = 0, Wall = 1 };
 // Curvature after the surface-tension passes, when they run
 // (src/sph/pass_loop.hpp).
 // Viscous: the implicit viscous solve's vector, at each of its iterations.
+// Shift: the particle shifts of the step, when the density follows them.
 enum class SphGroup : std::uint8_t {
   State = 0,
   WallState = 1,
@@ -41,7 +42,8 @@ enum class SphGroup : std::uint8_t {
   FreeSurface = 3,
   SurfaceNormal = 4,
   Curvature = 5,
-  Viscous = 6
+  Viscous = 6,
+  Shift = 7
 };
 
 // The SPH field registry (field_registry.hpp): X(type, member, policy).
@@ -94,6 +96,8 @@ enum class SphGroup : std::uint8_t {
   X(Vec<D>, surface_normal, in_group(SphGroup::FreeSurface) | output_as("surface_normal", "1"))   \
   X(double, position_divergence, kLocal | output_as("position_divergence", "1"))                  \
   X(Vec<D>, shifting_gradient, kLocal)                                                            \
+  /* the step's particle shift [m], owned and ghosts (numerics.shifting_continuity) */            \
+  X(Vec<D>, shift, in_group(SphGroup::Shift))                                                     \
   /* surface tension (src/sph/terms/surface_tension.hpp): the Shepard colour, the unit */         \
   /* outward normal where it is reliable (else 0); the curvature at the surface */                \
   X(double, colour, in_group(SphGroup::SurfaceNormal) | output_as("colour", "1"))                 \

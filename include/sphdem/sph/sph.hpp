@@ -47,6 +47,7 @@ struct SphParams {
   bool front_events = false;           // weld-line flags (front_events.cpp) need the surface
   double eta2 = 0;                     // 0.01 h^2, keeps 1/r^2 terms finite
   double shifting = 0;                 // particle shifting coefficient A (0: off)
+  bool shifting_continuity = false;    // the shift enters the density (particle_shifting.cpp)
   bool wall_repulsion = false;         // Monaghan (1994) wall force (wall_repulsion.cpp)
   bool free_surface_traction = false;  // the surface's viscous traction (surface_traction.cpp)
   Vec3a body_force{};
@@ -152,9 +153,13 @@ template <int D>
 void drop_unused_fields(const SphParams& sp, bool slip_walls, SphParticles<D>& ps);
 
 // Particle shifting after the second kick of a step of dt (src/sph/particle_shifting.cpp):
-// reads the free-surface pass's fields; nothing when sp.shifting is 0.
+// reads the free-surface pass's fields; nothing when sp.shifting is 0. With
+// sp.shifting_continuity the shifts are forwarded to the ghosts (forward,
+// SphGroup::Shift) and each resin density gains the continuity equation's
+// sum over the shift, so the density follows the particles' spacing.
 template <int D>
-void shift_particles(const SphParams& sp, double dt, SphParticles<D>& ps);
+void shift_particles(const SphParams& sp, double dt, const NeighborList<D>& nl, SphParticles<D>& ps,
+                     const std::function<void(SphGroup)>& forward);
 
 // The wall's short-range repulsion on the resin (src/sph/wall_repulsion.cpp),
 // added to the accelerations; compute_fluid_rates calls it when sp.wall_repulsion.
