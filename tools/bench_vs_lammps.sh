@@ -128,7 +128,9 @@ run_in() {  # run, in directory $1
 }
 
 # A LAMMPS executable with the SPH package, or nothing.
-has_sph() { [[ -x "$1" ]] && "$1" -h 2>/dev/null | grep -qw SPH; }
+# (grep reads all of -h: with -q it stops at the first match, lmp dies of SIGPIPE and
+# pipefail turns a found package into "missing".)
+has_sph() { [[ -x "$1" ]] && "$1" -h 2>/dev/null | grep -w SPH >/dev/null; }
 find_peer() {
   local c
   for c in "$LMP" "$(command -v lmp 2>/dev/null || true)" "$PEER_DIR/build/lmp"; do
@@ -197,7 +199,7 @@ fi
 if ! ((DRY)); then
   [[ -z "$SPH_CASES" || -x "$BENCH" ]] || { echo "bench_vs_lammps: no $BENCH (cmake --preset release && cmake --build build/release --target bench_sph)" >&2; exit 1; }
   [[ -z "$DEM_CASES" || -x "$BENCH_DEM" ]] || { echo "bench_vs_lammps: no $BENCH_DEM (cmake --preset release && cmake --build build/release --target bench_dem)" >&2; exit 1; }
-  [[ -z "$DEM_CASES" ]] || "$peer" -h 2>/dev/null | grep -qw BPM || { echo "bench_vs_lammps: $peer has no BPM package (needed by $DEM_CASES)" >&2; exit 1; }
+  [[ -z "$DEM_CASES" ]] || "$peer" -h 2>/dev/null | grep -w BPM >/dev/null || { echo "bench_vs_lammps: $peer has no BPM package (needed by $DEM_CASES)" >&2; exit 1; }
   command -v hyperfine >/dev/null || { echo "bench_vs_lammps: hyperfine is missing (scripts/install-deps.sh --peer)" >&2; exit 1; }
 fi
 
