@@ -60,9 +60,13 @@ expect(r.returncode == 2 and "--rounds" in r.stderr, "--rounds 0 exits 2 naming 
 r = run("--ranks", "two")
 expect(r.returncode == 2 and "--ranks" in r.stderr, "--ranks two exits 2 naming the option")
 
-peer_dir = os.path.join(src, "build", "peers", "lammps")
-had_peer_dir = os.path.exists(peer_dir)
+# A peer directory of its own: a peer already built in the source tree's
+# build/peers/lammps would be found and nothing would be built.
+peer_dir = os.path.join(work, "no-peer")
+shutil.rmtree(peer_dir, ignore_errors=True)
+had_peer_dir = False
 r = run("--dry-run", "--build-peer", "--cases", "21k 99k", "--ranks", "1 2", "--rounds", "2",
+        "--peer-dir", peer_dir,
         "--out", os.path.join(work, "dry"), "--lmp", os.path.join(work, "no-such-lmp"))
 out = r.stdout.replace("\\ ", " ")  # printf %q escapes the spaces
 expect(r.returncode == 0, "--dry-run --build-peer exits 0")
