@@ -45,7 +45,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import sphdem_io as io  # noqa: E402
-from sphdem_io import MM, np  # noqa: E402
+from sphdem_io import MM, np, print_table  # noqa: E402
 from velocity_profile import bin_profile, strip  # noqa: E402
 from paper_seeds import orientation, REGIONS  # noqa: E402
 
@@ -112,20 +112,6 @@ def station_profile(x, u, frozen, at, width, bins, span):
 
 def fmt(x, form="%.3f"):
     return form % x if np.isfinite(x) else "-"
-
-
-def print_table(header, rows, markdown):
-    if markdown:
-        print("| " + " | ".join(header) + " |")
-        print("| " + " | ".join("---" for _ in header) + " |")
-        for r in rows:
-            print("| " + " | ".join(r) + " |")
-    else:
-        widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(header)]
-        print("  ".join(h.ljust(w) for h, w in zip(header, widths)))
-        for r in rows:
-            print("  ".join(c.ljust(w) for c, w in zip(r, widths)))
-    print()
 
 
 def analyse(snap, a, spacing, rho0, pressure):

@@ -57,7 +57,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import sphdem_io as io  # noqa: E402
-from sphdem_io import MM, np  # noqa: E402
+from sphdem_io import MM, np, print_table  # noqa: E402
 from fiber_lengths import averages, piece_lengths  # noqa: E402
 
 MPA = 1e6
@@ -202,20 +202,6 @@ def spread(values, form="%.3g"):
     if len(v) == 1:
         return fmt(v[0])
     return "%s +- %s (%s..%s)" % (fmt(v.mean()), fmt(v.std(ddof=1)), fmt(v.min()), fmt(v.max()))
-
-
-def print_table(header, rows, markdown):
-    if markdown:
-        print("| " + " | ".join(header) + " |")
-        print("| " + " | ".join("---" for _ in header) + " |")
-        for r in rows:
-            print("| " + " | ".join(r) + " |")
-    else:
-        widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(header)]
-        print("  ".join(h.ljust(w) for h, w in zip(header, widths)))
-        for r in rows:
-            print("  ".join(c.ljust(w) for c, w in zip(r, widths)))
-    print()
 
 
 def main():

@@ -370,6 +370,21 @@ def write_csv(path, header, rows):
             out.write(",".join(v if isinstance(v, str) else "%.9g" % v for v in r) + "\n")
 
 
+def print_table(header, rows, markdown):
+    """Rows of strings as a Markdown table or as aligned plain-text columns."""
+    if markdown:
+        print("| " + " | ".join(header) + " |")
+        print("| " + " | ".join("---" for _ in header) + " |")
+        for r in rows:
+            print("| " + " | ".join(r) + " |")
+    else:
+        widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(header)]
+        print("  ".join(h.ljust(w) for h, w in zip(header, widths)))
+        for r in rows:
+            print("  ".join(c.ljust(w) for c, w in zip(r, widths)))
+    print()
+
+
 def pyplot():
     import matplotlib
     matplotlib.use("Agg")
