@@ -267,6 +267,9 @@ output: {every_time: 0.5}
     m = re.search(r"simulation failed: .*?step (\d+)", err)
     expect(m is not None and err.count("simulation failed") == 1,
            "the cause printed once, with its step")
+    # Whichever rank holds the particle, every rank's message names it.
+    expect(re.search(r"simulation failed: step \d+ \(t = [^)]*\): rank \d+: particle \d+ ", err)
+           is not None, "the failing particle named, with its rank: %s" % err.strip()[-300:])
     expect("MPI_ABORT" not in err and "sphdem: rank" not in err, "no abort")
     expect("last state written" in out, "the last state is written")
     if m:

@@ -19,6 +19,7 @@
 #include "sphdem/core/fault.hpp"
 #include "sphdem/io/checkpoint.hpp"
 #include "sphdem/io/io.hpp"
+#include "sphdem/parallel/agreement.hpp"
 #include "sphdem/solver/coupling_module.hpp"
 #include "sphdem/solver/fiber_module.hpp"
 #include "sphdem/solver/output_cadence.hpp"
@@ -120,16 +121,16 @@ template <int D>
 void Run<D>::check_health() const {
   std::string problem;
   for (const auto& m : modules_) m->check_health(problem);
-  // Every rank stops together; the lowest rank with a problem names it.
-  std::int64_t bad = 0;
+  // Every rank stops together, each with the lowest failing rank's message
+  // (its own words: which particle, where), not just its rank number.
+  std::optional<RankFailure> failure;
   {
     ScopedPhase t(timers_, Phase::Wait);
-    bad = comm_.min(static_cast<std::int64_t>(problem.empty() ? comm_.size() : comm_.rank()));
+    failure = first_failure(comm_, problem.empty() ? std::nullopt : std::optional(problem));
   }
-  if (bad >= comm_.size()) return;
-  throw CollectiveSimulationError(fmt::format(
-      "step {} (t = {:.6g} s): {}", clock_.step, clock_.time,
-      bad == comm_.rank() ? problem : fmt::format("a particle on rank {} failed", bad)));
+  if (!failure) return;
+  throw CollectiveSimulationError(fmt::format("step {} (t = {:.6g} s): rank {}: {}", clock_.step,
+                                              clock_.time, failure->rank, failure->message));
 }
 
 template <int D>
