@@ -305,6 +305,23 @@ TEST(ViscosityKeys, PressureWarning) {
   }
 }
 
+// With resin.thermal the estimate takes the law at the melt's initial
+// temperature: the real-melt plate (Cross-WLF PP at 503.15 K, piston 1 m/s,
+// gap 4 mm, so 6 U / W = 1500 1/s) gives by hand eta0 = 1.5e12
+// exp(-25 x 240 / 291.6) = 1.74e3 Pa s and eta = eta0 / (1 + (eta0 1500 /
+// 3e4)^0.7) = 73 Pa s, not the law's max (1e7 Pa s) of a cold particle.
+TEST(ViscosityKeys, PressureWarningAtTheMeltTemperature) {
+  const Case melt = testing::load_input("plate_melt_pp.yaml");
+  ASSERT_TRUE(warns_pressure(melt));
+  for (const std::string& w : melt.warnings) {
+    if (w.find("viscous pressure drop") == std::string::npos) continue;
+    const auto at = w.find(": eta ");
+    ASSERT_NE(at, std::string::npos) << w;
+    const double eta = std::stod(w.substr(at + 6));
+    EXPECT_NEAR(eta, 73.0, 2.0) << w;
+  }
+}
+
 // The injection pressure series: a row per snapshot for the piston, its
 // speed and the face pressure the run reports (docs/physics.md "Injection
 // pressure").

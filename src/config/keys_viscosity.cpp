@@ -377,8 +377,11 @@ void warn_viscous_pressure(Case& c) {
   if (u <= 0 || c.mold.shapes.empty() || c.numerics.viscosity_model == ViscosityModel::None) return;
   const auto [gap, length] = mold_extents(c);
   if (!(gap > 0)) return;
-  const double eta = melt_viscosity(c.resin.melt, c.resin.viscosity, 6.0 * u / gap,
-                                    c.resin.melt_temperature.value_or(0.0), 0.0);
+  // The melt as it enters: at the melt temperature (resin.thermal's
+  // initial temperature when the particles carry one), not the cold law's max.
+  const double melt_t =
+      c.resin.thermal ? c.resin.thermal->temperature : c.resin.melt_temperature.value_or(0.0);
+  const double eta = melt_viscosity(c.resin.melt, c.resin.viscosity, 6.0 * u / gap, melt_t, 0.0);
   const double dp = 12.0 * eta * u * length / (gap * gap);
   const double carried =
       kAllowedCompression * c.resin.density * c.resin.sound_speed * c.resin.sound_speed;
