@@ -257,6 +257,11 @@ void ResinModule<D>::predict(double dt) {
       if (ps_.is_frozen(i)) ps_.v_half[i].setZero();
       ps_.x[i] += dt * ps_.v_half[i];
       ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
+      // The rates' velocity: with implicit viscosity a holds the explicit
+      // terms only; the last solve's viscous acceleration completes it, so
+      // the continuity density sees the velocity the particles drift with
+      // (docs/physics.md "Implicit viscosity", the predicted velocity).
+      if (sp_.implicit_viscosity) ps_.v[i] += half * ps_.visc_acc[i];
       ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
     }
   }
