@@ -257,11 +257,6 @@ void ResinModule<D>::predict(double dt) {
       if (ps_.is_frozen(i)) ps_.v_half[i].setZero();
       ps_.x[i] += dt * ps_.v_half[i];
       ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
-      // The rates' velocity: with implicit viscosity a holds the explicit
-      // terms only; the last solve's viscous acceleration completes it, so
-      // the continuity density sees the velocity the particles drift with
-      // (docs/physics.md "Implicit viscosity", the predicted velocity).
-      if (sp_.implicit_viscosity) ps_.v[i] += half * ps_.visc_acc[i];
       ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
     }
   }
@@ -303,6 +298,14 @@ void ResinModule<D>::correct(double dt) {
       ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
       if (sp_.thermal) ps_.temperature[i] = ps_.temp_half[i] + half * ps_.dtemp[i];
     }
+  }
+  // The density kick read the velocities before the solve; the particles
+  // drift with the solve's (docs/physics.md "Implicit viscosity", the density).
+  if (sp_.implicit_viscosity) {
+    add_viscous_density<D>(sp_, dt, nl_, ps_, [this](SphGroup g) {
+      ScopedPhase t(timers_, Phase::Halo);
+      halo_.forward(ps_, g);
+    });
   }
   shift_particles<D>(sp_, dt, nl_, ps_, [this](SphGroup g) {
     ScopedPhase t(timers_, Phase::Halo);
