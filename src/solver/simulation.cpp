@@ -299,6 +299,14 @@ void ResinModule<D>::correct(double dt) {
       if (sp_.thermal) ps_.temperature[i] = ps_.temp_half[i] + half * ps_.dtemp[i];
     }
   }
+  // The density kick read the velocities before the solve; the particles
+  // drift with the solve's (docs/physics.md "Implicit viscosity", the density).
+  if (sp_.implicit_viscosity) {
+    add_viscous_density<D>(sp_, dt, nl_, ps_, [this](SphGroup g) {
+      ScopedPhase t(timers_, Phase::Halo);
+      halo_.forward(ps_, g);
+    });
+  }
   shift_particles<D>(sp_, dt, nl_, ps_, [this](SphGroup g) {
     ScopedPhase t(timers_, Phase::Halo);
     halo_.forward(ps_, g);

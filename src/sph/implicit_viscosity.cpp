@@ -310,6 +310,33 @@ ViscousSolveStats solve_implicit_viscosity(const SphParams& sp, double dt, doubl
   return stats;
 }
 
+template <int D>
+void add_viscous_density(const SphParams& sp, double dt, const NeighborList<D>& nl,
+                         SphParticles<D>& ps, const std::function<void(SphGroup)>& forward) {
+  const std::size_t n = ps.n_owned;
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool free = ps.kind[i] == Kind::Fluid && !ps.is_frozen(i);
+    ps.visc_u[i] = free ? Vec<D>((0.5 * dt * dt) * ps.visc_acc[i]) : Vec<D>::Zero();
+  }
+  forward(SphGroup::Viscous);
+  const WendlandC2<D> kernel(sp.h);
+  const double support2 = 4.0 * sp.h * sp.h;
+  const std::int32_t* nb = nl.indices();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    double drho = 0.0;
+    for (std::size_t k = nl.begin(i), e = nl.end(i); k < e; ++k) {
+      const auto j = static_cast<std::size_t>(nb[k]);
+      const Vec<D> x_ij = ps.x[i] - ps.x[j];
+      const double r2 = x_ij.squaredNorm();
+      if (!(r2 < support2)) continue;
+      const double F = kernel.f(std::sqrt(r2)) * sp.grad_scale;
+      drho += ps.mass[j] * F * (ps.visc_u[i] - ps.visc_u[j]).dot(x_ij);
+    }
+    ps.rho[i] += drho;
+  }
+}
+
 template struct ViscousOperator<2>;
 template struct ViscousOperator<3>;
 template ViscousSolveStats solve_implicit_viscosity<2>(const SphParams&, double, double, int,
@@ -320,5 +347,10 @@ template ViscousSolveStats solve_implicit_viscosity<3>(const SphParams&, double,
                                                        const NeighborList<3>&, SphParticles<3>&,
                                                        std::span<const WallSlipLaw>,
                                                        const ViscousSolveHooks&);
+
+template void add_viscous_density<2>(const SphParams&, double, const NeighborList<2>&,
+                                     SphParticles<2>&, const std::function<void(SphGroup)>&);
+template void add_viscous_density<3>(const SphParams&, double, const NeighborList<3>&,
+                                     SphParticles<3>&, const std::function<void(SphGroup)>&);
 
 }  // namespace sphdem

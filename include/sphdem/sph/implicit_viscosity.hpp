@@ -82,4 +82,16 @@ ViscousSolveStats solve_implicit_viscosity(const SphParams& sp, double dt, doubl
                                            std::span<const WallSlipLaw> wall_slip,
                                            const ViscousSolveHooks& hooks);
 
+// The density's share of the solve (after the second density kick): that
+// kick's rate read the velocities before the solve, the drift of the next
+// step reads the solve's, and the leapfrog's density averages two rates, so
+// it misses the continuity equation's term of the displacement dt/2 du,
+// du = dt visc_acc the solve's change of velocity:
+//   rho_i += sum_j m_j (d_i - d_j) . grad_i W_ij,   d = dt/2 du
+// (walls and frozen resin d = 0), as for a particle shift. Reads visc_acc,
+// writes visc_u (d, forwarded with SphGroup::Viscous). Collective.
+template <int D>
+void add_viscous_density(const SphParams& sp, double dt, const NeighborList<D>& nl,
+                         SphParticles<D>& ps, const std::function<void(SphGroup)>& forward);
+
 }  // namespace sphdem
