@@ -11,7 +11,9 @@
 #include <mpi.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <thread>
@@ -21,6 +23,7 @@
 #include "sphdem/dem/dem_fibers.hpp"
 #include "sphdem/parallel/comm.hpp"
 #include "sphdem/parallel/decomposition.hpp"
+#include "sphdem/parallel/dem_halo.hpp"
 #include "sphdem/solver/dem_domain.hpp"
 
 namespace sphdem {
@@ -199,6 +202,26 @@ TEST(DemParallel, FibersAcrossRanks3D) {
 
 // The serial driver (DemSystem, used by the validation tests) and a 1-rank
 // DemDomain run the same arithmetic.
+// The sub-step's rebuild vote rides on the ghost update (DemHalo::
+// forward_max): every rank gets the largest vote, also a rank that sends
+// no ghost to anyone, and a NaN on one rank reaches every rank (so all
+// take the same decision).
+TEST(DemParallel, HaloVoteAcrossRanks) {
+  const Comm comm;
+  const Box<2> box{Vec<2>::Constant(0.0), Vec<2>::Constant(1.0)};
+  Decomposition<2> dec(comm, box, {false, false, false}, 0.1);
+  std::vector<std::int64_t> work(static_cast<std::size_t>(dec.blocks()), 1);
+  dec.partition(work, true);
+  DemParticles<2> ps;  // no particle: no ghost travels
+  DemHalo<2> halo;
+  halo.build(dec, ps, 0.1);
+  const int n = comm.size(), me = comm.rank();
+  EXPECT_EQ(halo.forward_max(ps, DemGroup::State, 1.5 * (me + 1)), 1.5 * n);
+  EXPECT_EQ(halo.forward_max(ps, DemGroup::State, -1.0 * me), 0.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(std::isnan(halo.forward_max(ps, DemGroup::State, me == n - 1 ? nan : 1.0)));
+}
+
 TEST(DemParallel, SerialDriverMatchesDomain) {
   const Comm self(MPI_COMM_SELF);
   DemSystem<2> sys = make_system<2>(30, 1e12);

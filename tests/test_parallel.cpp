@@ -600,6 +600,37 @@ TEST(OrderedSum, SameBitsAtEveryRankCount) {
   }
 }
 
+// gather_terms with a capacity kept between calls: the same list as the
+// two-collective gather whether the terms fit (one Allgather) or some rank
+// has more (the capacity grows, the same on every rank).
+TEST(OrderedSum, CapacityGathersTheSameList) {
+  const Comm world;
+  const auto same = [](const std::vector<OrderedTerm>& a, const std::vector<OrderedTerm>& b) {
+    if (a.size() != b.size()) return false;
+    for (std::size_t k = 0; k < a.size(); ++k)
+      if (a[k].order != b[k].order || a[k].key != b[k].key || a[k].value != b[k].value)
+        return false;
+    return true;
+  };
+  std::size_t capacity = 0;
+  for (const int per_rank : {5, 3, 0, 4, 40}) {
+    std::vector<OrderedTerm> mine;
+    // Rank 0 has one more term at the last count: more than the capacity.
+    const int n = per_rank + (per_rank == 40 && world.rank() == 0 ? 1 : 0);
+    for (int k = 0; k < n; ++k) {
+      const std::int64_t gid = static_cast<std::int64_t>(k) * world.size() + world.rank();
+      mine.push_back({gid, k % 3, 1.0 / static_cast<double>(gid + 1)});
+    }
+    std::reverse(mine.begin(), mine.end());
+    const std::size_t before = capacity;
+    const std::vector<OrderedTerm> with = gather_terms(world, mine, &capacity);
+    EXPECT_TRUE(same(with, gather_terms(world, mine))) << per_rank << " terms per rank";
+    EXPECT_EQ(world.max(static_cast<std::int64_t>(capacity)),
+              world.min(static_cast<std::int64_t>(capacity)));
+    EXPECT_EQ(capacity > before, world.max(std::int64_t{n}) > static_cast<std::int64_t>(before));
+  }
+}
+
 // Comm::sum_max: sums and maxima (and a minimum as the largest negation)
 // in one allreduce; integers, so the sums are exact at any rank count.
 TEST(CommReductions, SumMaxInOneCollective) {

@@ -27,6 +27,12 @@ void DemHalo<D>::forward(DemParticles<D>& ps, DemGroup group) {
   detail::forward_groups<D>(comm_, plan_, ps, group_bit(group), send_buf_, recv_buf_);
 }
 
+template <int D>
+double DemHalo<D>::forward_max(DemParticles<D>& ps, DemGroup group, double value) {
+  detail::forward_groups<D>(comm_, plan_, ps, group_bit(group), send_buf_, recv_buf_, &value);
+  return value;
+}
+
 template class DemHalo<2>;
 template class DemHalo<3>;
 

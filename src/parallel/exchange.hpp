@@ -28,4 +28,14 @@ std::vector<std::int64_t> transpose_counts(MPI_Comm comm, const std::vector<std:
 void exchange(MPI_Comm comm, const Route& send, const void* send_buf, const Route& recv,
               void* recv_buf, MPI_Datatype base, std::size_t per);
 
+// exchange(), and the largest `vote` over every rank of comm in the same
+// wait: each rank sends its vote to every other rank beside the elements,
+// so a few ranks synchronise once where exchange() and an allreduce
+// synchronise twice. Above kVoteMessageRanks ranks (n^2 small messages)
+// the vote is an allreduce after the exchange. The maximum is exact: the
+// same value either way.
+constexpr int kVoteMessageRanks = 8;
+double exchange_max(MPI_Comm comm, const Route& send, const void* send_buf, const Route& recv,
+                    void* recv_buf, MPI_Datatype base, std::size_t per, double vote);
+
 }  // namespace sphdem::detail

@@ -18,10 +18,12 @@
 namespace sphdem::detail {
 
 // Packs, exchanges and unpacks the fields `want` selects for every copy of
-// `plan`. Collective over `comm` (the ranks of the plan's routes).
+// `plan`. Collective over `comm` (the ranks of the plan's routes; with a
+// `vote`, every rank of comm: *vote becomes its largest value over the
+// ranks, in the same exchange, exchange_max).
 template <int D, class P, class Want>
 void send_fields(MPI_Comm comm, const GhostPlan<D>& plan, P& ps, Want want,
-                 std::vector<char>& send_buf, std::vector<char>& recv_buf) {
+                 std::vector<char>& send_buf, std::vector<char>& recv_buf, double* vote = nullptr) {
   const std::size_t rec = record_bytes(ps, want);
   const std::size_t n_send = plan.send_index.size(), n_recv = plan.recv.total();
   send_buf.resize(n_send * rec);
@@ -47,7 +49,12 @@ void send_fields(MPI_Comm comm, const GhostPlan<D>& plan, P& ps, Want want,
     offset += sizeof(T);
   });
   recv_buf.resize(n_recv * rec);
-  exchange(comm, plan.send, send_buf.data(), plan.recv, recv_buf.data(), MPI_BYTE, rec);
+  if (vote) {
+    *vote = exchange_max(comm, plan.send, send_buf.data(), plan.recv, recv_buf.data(), MPI_BYTE,
+                         rec, *vote);
+  } else {
+    exchange(comm, plan.send, send_buf.data(), plan.recv, recv_buf.data(), MPI_BYTE, rec);
+  }
   offset = 0;
   ps.for_each_field([&](const char*, auto& field, FieldPolicy p) {
     if (!want(p)) return;
@@ -64,9 +71,11 @@ void send_fields(MPI_Comm comm, const GhostPlan<D>& plan, P& ps, Want want,
 // The fields of the exchange groups in `group_bits` (group_bit(g)).
 template <int D, class P>
 void forward_groups(MPI_Comm comm, const GhostPlan<D>& plan, P& ps, std::uint32_t group_bits,
-                    std::vector<char>& send_buf, std::vector<char>& recv_buf) {
+                    std::vector<char>& send_buf, std::vector<char>& recv_buf,
+                    double* vote = nullptr) {
   send_fields(
-      comm, plan, ps, [group_bits](FieldPolicy p) { return p.in(group_bits); }, send_buf, recv_buf);
+      comm, plan, ps, [group_bits](FieldPolicy p) { return p.in(group_bits); }, send_buf, recv_buf,
+      vote);
 }
 
 }  // namespace sphdem::detail

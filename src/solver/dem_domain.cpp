@@ -101,7 +101,6 @@ void DemDomain<D>::rebuild() {
 
 template <int D>
 void DemDomain<D>::advance(std::int64_t n, double dt) {
-  const Comm& comm = dec_.comm();
   if (params_.subcycle_bonds) {
     advance_subcycled(n, dt);
     return;
@@ -110,19 +109,20 @@ void DemDomain<D>::advance(std::int64_t n, double dt) {
   const double limit2 = 0.25 * ws_.skin * ws_.skin;
   for (std::int64_t s = 0; s < n; ++s) {
     dem_kick_drift(params_, dt, walls_, ps_);
-    // One small collective per sub-step: every rank rebuilds at the same
-    // sub-step, whatever the rank count.
-    dem_detail::DemTimer t_collective(dem_detail::dem_profile().collective);
-    const bool moved = comm.max(dem_max_displacement2(ps_, walls_, ws_)) > limit2;
-    t_collective.stop();
-    if (moved) {
-      rebuild();
-    } else {
-      const dem_detail::DemTimer t_halo(dem_detail::dem_profile().halo);
-      halo_.forward(ps_, DemGroup::State);
-    }
+    if (vote_and_forward(limit2, false)) rebuild();
     dem_force_kick(params_, dt, walls_, ps_, ws_);
   }
+}
+
+// The ghosts' new state and the rebuild vote in one synchronisation (a
+// sub-step's only one): every rank rebuilds at the same sub-step, whatever
+// the rank count. A rebuild then replaces the ghosts just updated.
+template <int D>
+bool DemDomain<D>::vote_and_forward(double limit2, bool force) {
+  const dem_detail::DemTimer t_collective(dem_detail::dem_profile().collective);
+  const double local =
+      force ? std::numeric_limits<double>::infinity() : dem_max_displacement2(ps_, walls_, ws_);
+  return halo_.forward_max(ps_, DemGroup::State, local) > limit2;
 }
 
 // Bond sub-cycling (docs/dem.md): the ghosts' state travels after every
@@ -130,7 +130,6 @@ void DemDomain<D>::advance(std::int64_t n, double dt) {
 // listed whatever their distance, and contacts are evaluated only there).
 template <int D>
 void DemDomain<D>::advance_subcycled(std::int64_t n, double dt) {
-  const Comm& comm = dec_.comm();
   const double limit2 = 0.25 * ws_.skin * ws_.skin;
   const std::int64_t inner = dem_bond_substeps(params_, dt);
   const auto refresh = [&] {
@@ -139,19 +138,12 @@ void DemDomain<D>::advance_subcycled(std::int64_t n, double dt) {
   };
   const bool implicit = params_.implicit_bonds;
   const auto settle = [&] {
-    dem_detail::DemTimer t_collective(dem_detail::dem_profile().collective);
     // Implicit bonds: a bond that broke here may be in another rank's chain
     // as a ghost's stale copy; a rebuild sends every rank the new slots
     // before the next solve, so all solve the same chain.
-    const double broke = implicit && ws_.bond_broke ? std::numeric_limits<double>::infinity() : 0.0;
-    const bool moved = comm.max(std::max(dem_max_displacement2(ps_, walls_, ws_), broke)) > limit2;
-    t_collective.stop();
+    const bool broke = implicit && ws_.bond_broke;
     ws_.bond_broke = false;
-    if (moved) {
-      rebuild();
-    } else {
-      refresh();
-    }
+    if (vote_and_forward(limit2, broke)) rebuild();
   };
   for (std::int64_t s = 0; s < n; ++s) {
     if (implicit) {

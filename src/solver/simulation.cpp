@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 #include <ostream>
@@ -131,7 +132,7 @@ std::vector<double> ResinModule<D>::face_means(const std::vector<WallFaceSample>
   std::vector<OrderedTerm> terms;
   terms.reserve(face.size());
   for (const WallFaceSample& f : face) terms.push_back({f.gid, f.wall, f.p});
-  const std::vector<KeySum> sums = ordered_sums(comm_, terms, walls_.size());
+  const std::vector<KeySum> sums = ordered_sums(comm_, terms, walls_.size(), &face_capacity_);
   std::vector<double> mean(sums.size());
   for (std::size_t k = 0; k < sums.size(); ++k) {
     mean[k] = sums[k].count > 0 ? sums[k].sum / static_cast<double>(sums[k].count) : std::nan("");
@@ -216,13 +217,15 @@ void ResinModule<D>::write_front_events(bool pockets) {
 template <int D>
 std::optional<TimeStep> ResinModule<D>::stable_dt() {
   const LocalExtremes ex = local_extremes<D>(ps_);
-  double v_max = 0, a_max = 0, mu_max = -1.0;
+  // One allreduce for the three largest values (a maximum is exact: the
+  // same values as three reductions).
+  std::array<double, 3> maxes{ex.v_max, ex.a_max, ex.mu_max};
   {
     ScopedPhase t(timers_, Phase::Wait);
-    v_max = comm_.max(ex.v_max);
-    a_max = comm_.max(ex.a_max);
-    if (sp_.variable_viscosity) mu_max = comm_.max(ex.mu_max);
+    max_over_ranks(comm_, maxes);
   }
+  const double v_max = maxes[0], a_max = maxes[1];
+  const double mu_max = sp_.variable_viscosity ? maxes[2] : -1.0;
   if (!std::isfinite(v_max) || !std::isfinite(a_max)) {
     throw CollectiveSimulationError(
         fmt::format("the resin blew up at step {} (t = {:.6g} s): a velocity "

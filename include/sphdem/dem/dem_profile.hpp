@@ -10,13 +10,13 @@ namespace sphdem::dem_detail {
 struct DemProfile {
   bool enabled = false;
   // Seconds, accumulated over the run.
-  double pairs = 0;            // evaluate every pair (contacts, bonds) into per-pair results
-  double gather = 0;           // each owned particle sums its pairs, body and external forces
-  double walls = 0;            // wall contacts of the owned particles
-  double kick_drift = 0;       // the two half kicks and the drift
-  double halo = 0;             // ghost state update between rebuilds
-  double collective = 0;       // the rebuild decision (allreduce, includes waiting for other ranks)
-  double rebuild = 0;          // store state, migration, ghost build, pair list build
+  double pairs = 0;       // evaluate every pair (contacts, bonds) into per-pair results
+  double gather = 0;      // each owned particle sums its pairs, body and external forces
+  double walls = 0;       // wall contacts of the owned particles
+  double kick_drift = 0;  // the two half kicks and the drift
+  double halo = 0;        // ghost state update between rebuilds (bond sub-cycling's inner steps)
+  double collective = 0;  // the rebuild vote with the ghost update it rides on (waiting included)
+  double rebuild = 0;     // store state, migration, ghost build, pair list build
   double rebuild_pairs = 0;    // of which the pair-list build
   double rebuild_migrate = 0;  // of which the migration (or dropping the ghosts)
   double rebuild_ghosts = 0;   // of which the ghost build

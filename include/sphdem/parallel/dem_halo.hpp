@@ -25,6 +25,10 @@ class DemHalo {
   // State between sub-steps (position plus the shift, velocity, angular
   // velocity), Coupling at the coupling pass (mean drag, Shepard sum).
   void forward(DemParticles<D>& ps, DemGroup group);
+  // Collective over every rank: forward(ps, group) and the largest `value`
+  // over the ranks, in one synchronisation for a few ranks (a DEM sub-step's
+  // ghost update and rebuild vote together).
+  double forward_max(DemParticles<D>& ps, DemGroup group, double value);
 
   std::size_t size() const { return plan_.recv.total(); }       // ghosts received
   std::size_t sent() const { return plan_.send_index.size(); }  // copies sent

@@ -24,14 +24,22 @@ struct KeySum {
   std::int64_t count = 0;
 };
 
-// Collective (MPI_Allgatherv): per key, the sum of its terms over all ranks
-// in increasing `order`, and how many there were. Every rank gets the same
-// result. Meant for small sets (a few thousand terms per step).
 // Collective (MPI_Allgatherv): every rank's terms, on every rank, sorted
 // by (order, key): the same list at any rank count.
-std::vector<OrderedTerm> gather_terms(const Comm& comm, const std::vector<OrderedTerm>& terms);
+// With `capacity` (terms per rank, the same on every rank; a caller that
+// gathers every step keeps it between calls, starting at 0): one
+// MPI_Allgather of blocks that size with their counts, instead of a count
+// gather and an Allgatherv, while no rank has more terms; when one has,
+// every rank sees it, gathers again as above and raises the capacity to
+// the largest count and a quarter. The same list either way.
+std::vector<OrderedTerm> gather_terms(const Comm& comm, const std::vector<OrderedTerm>& terms,
+                                      std::size_t* capacity = nullptr);
 
+// Collective: per key, the sum of its terms over all ranks in increasing
+// `order`, and how many there were (gather_terms, `capacity` as there).
+// Every rank gets the same result. Meant for small sets (a few thousand
+// terms per step).
 std::vector<KeySum> ordered_sums(const Comm& comm, const std::vector<OrderedTerm>& terms,
-                                 std::size_t keys);
+                                 std::size_t keys, std::size_t* capacity = nullptr);
 
 }  // namespace sphdem

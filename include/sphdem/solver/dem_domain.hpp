@@ -70,6 +70,10 @@ class DemDomain {
 
  private:
   void advance_subcycled(std::int64_t n, double dt);
+  // Collective: the ghosts' State forwarded and whether any rank's particle
+  // (or wall) moved more than sqrt(limit2) since the last rebuild, or any
+  // rank forces a rebuild.
+  bool vote_and_forward(double limit2, bool force);
   const Decomposition<D>& dec_;
   DemParams<D> params_;
   std::vector<DemWall<D>> walls_;

@@ -92,6 +92,7 @@ class ResinModule final : public Module<D> {
   double last_imbalance_ = 0;
   std::int64_t repartitions_ = 0;
   bool pressure_series_started_ = false;  // the injection pressure CSV of this run
+  std::size_t face_capacity_ = 0;         // face terms per rank gathered in one call (face_means)
   // Weld lines flagged since the last collect_front_events: per particle
   // (order = id) the time (key 0) and the position (keys 1..D).
   std::vector<OrderedTerm> weld_events_;
