@@ -356,6 +356,63 @@ TEST(SphPairLoop, ATermOutsideTheLibraryJoinsThroughTheListAlone) {
   }
 }
 
+// The wall repulsion walks only the lists of the particles the pair loop
+// found with a neighbour within its range (CloseNeighbours): the same bits
+// as walking every list, on a cloud where resin sits closer than 0.9 dp to
+// the walls (the cloud's jitter is 0.2 dp per axis) and where most resin
+// has no neighbour that close, so the short cut is taken.
+template <int D>
+void expect_repulsion_from_close_particles(std::uint32_t seed) {
+  SphParams sp = base_params();
+  sp.wall_repulsion = true;
+  SphParticles<D> ps = cloud<D>(sp, seed);
+  // One resin particle surely inside the range: 0.6 dp above the first wall particle.
+  const auto wall = static_cast<std::size_t>(std::find(ps.kind.begin(), ps.kind.end(), Kind::Wall) -
+                                             ps.kind.begin());
+  const auto resin = static_cast<std::size_t>(
+      std::find(ps.kind.begin(), ps.kind.end(), Kind::Fluid) - ps.kind.begin());
+  ps.x[resin] = ps.x[wall];
+  ps.x[resin][1] += 0.6 * sp.spacing;
+  NeighborList<D> nl(2.0 * sp.h, 0.3 * sp.h);
+  nl.build(ps);
+  SphParticles<D> every = ps, none = ps;
+  terms::CloseNeighbours close;
+  close.within2 = wall_repulsion_range2<D>(sp);
+  terms::run_pair_loop<D, SphTerms>(sp, nl, ps, &close);
+  add_wall_repulsion<D>(sp, nl, ps, close.particles);
+  terms::run_pair_loop<D, SphTerms>(sp, nl, every);
+  terms::run_pair_loop<D, SphTerms>(sp, nl, none);
+  add_wall_repulsion<D>(sp, nl, every);  // every owned particle's list
+
+  const double r0 = 0.9 * sp.spacing;
+  std::size_t resin_count = 0, pushed = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    ++resin_count;
+    bool wall_close = false;
+    for (std::size_t b = nl.begin(i); b < nl.end(i); ++b) {
+      const auto j = static_cast<std::size_t>(nl.indices()[b]);
+      wall_close = wall_close || (ps.kind[j] == Kind::Wall && (ps.x[i] - ps.x[j]).norm() < r0);
+    }
+    const bool found =
+        std::find(close.particles.begin(), close.particles.end(), i) != close.particles.end();
+    if (wall_close) {
+      EXPECT_TRUE(found) << "particle " << i;
+    }
+    EXPECT_EQ(ps.a[i], every.a[i]) << "particle " << i;  // bitwise
+    if (ps.a[i] != none.a[i]) ++pushed;
+  }
+  EXPECT_GT(pushed, 0u);                           // the repulsion acted
+  EXPECT_LT(close.particles.size(), resin_count);  // and some lists were skipped
+}
+
+TEST(SphPairLoop, TheWallRepulsionVisitsOnlyTheCloseParticles) {
+  for (std::uint32_t seed : {3u, 7u, 11u}) {
+    expect_repulsion_from_close_particles<2>(seed);
+    expect_repulsion_from_close_particles<3>(seed);
+  }
+}
+
 // A neighbour-sum pass written outside the library (how many neighbours lie
 // inside the support, into the registered field shear_rate) and a term that
 // reads the result on its neighbours. The engine runs the pass only when

@@ -11,8 +11,12 @@ namespace sphdem {
 
 template <int D>
 void compute_fluid_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
-  terms::run_pair_loop<D, terms::SphTerms>(sp, nl, ps);
-  add_wall_repulsion<D>(sp, nl, ps);
+  // The pair loop lists the particles close enough to a neighbour for the
+  // wall repulsion, which then walks only their lists.
+  thread_local terms::CloseNeighbours close;
+  close.within2 = wall_repulsion_range2<D>(sp);
+  terms::run_pair_loop<D, terms::SphTerms>(sp, nl, ps, &close);
+  add_wall_repulsion<D>(sp, nl, ps, close.particles);
   // With implicit viscosity the traction is in the solve (implicit_viscosity.cpp).
   if (!sp.implicit_viscosity) add_free_surface_traction<D>(sp, nl, ps);
 }

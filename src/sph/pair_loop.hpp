@@ -285,8 +285,20 @@ struct GatherLanes<D, Fields<Fs...>> {
   }
 };
 
+// The owned resin particles with some neighbour closer than sqrt(within2)
+// (resin or wall), in index order: the pair loop finds them from the r^2 it
+// computes anyway, so the wall repulsion (wall_repulsion.cpp) walks only
+// their lists instead of every list (docs/performance.md, "The wall
+// repulsion inside the pair loop"). A superset is fine: the repulsion
+// tests each pair exactly.
+struct CloseNeighbours {
+  double within2 = -1.0;  // below 0: nobody is close (the search is off)
+  std::vector<std::uint32_t> particles;
+};
+
 template <int D, class List, std::size_t C>
-void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
+void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
+                CloseNeighbours* close) {
   using Sel = typename Registry<List>::template Select<C>;
   using N = Needs<D, Sel>;
   using Lanes = typename N::Lanes;
@@ -311,6 +323,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     const double grad_scale = sp.grad_scale;
     const double inv_h = 1.0 / sp.h;
     const double kf = -10.0 * ctx.kw;
+    const double close2 = close != nullptr ? close->within2 : -1.0;
+    if (close != nullptr) close->particles.clear();
     Vec<D> g;
     for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
     const std::int32_t* nb = nl.indices();
@@ -329,6 +343,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               own})...};
       Vec<D> acc = Vec<D>::Zero();
       double drho_sum = 0.0;
+      int near = 0;  // some neighbour within close2
       for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
         const std::size_t cnt = std::min(kChunk, e - b);
 
@@ -377,6 +392,18 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
           drho_lane[k] = (kWrites & kDrho) != 0 ? s.drho : 0.0;
         }
 
+        // Some neighbour within close2 (a loop of its own: inside step 2's
+        // loop the reduction made GCC version that loop).
+        if (close2 > 0.0)
+          for (std::size_t k = 0; k < cnt; ++k) {
+            double r2 = 0.0;
+            for (int d = 0; d < D; ++d) {
+              const double x = lanes[(kPos + d) * kChunk + k];
+              r2 += x * x;
+            }
+            near |= r2 < close2 ? 1 : 0;
+          }
+
         // 3. Sum in list (global-id) order.
         for (std::size_t k = 0; k < cnt; ++k) {
           for (int d = 0; d < D; ++d) acc[d] += acc_lane[d][k];
@@ -385,6 +412,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
       }
       ps.a[i] = acc + g;
       ps.drho[i] = drho_sum;
+      if (near != 0) close->particles.push_back(static_cast<std::uint32_t>(i));
     }
   }(Sel{});
 }
@@ -415,7 +443,8 @@ LoopDescription describe_loop() {
 }
 
 template <int D, class List>
-using LoopFn = void (*)(const SphParams&, const NeighborList<D>&, SphParticles<D>&);
+using LoopFn = void (*)(const SphParams&, const NeighborList<D>&, SphParticles<D>&,
+                        CloseNeighbours*);
 
 template <int D, class List, std::size_t... C>
 constexpr std::array<LoopFn<D, List>, sizeof...(C)> loop_table(std::index_sequence<C...>) {
@@ -427,12 +456,14 @@ std::array<LoopDescription (*)(), sizeof...(C)> description_table(std::index_seq
 }
 
 // Continuity and momentum of every owned resin particle from the terms of
-// List that sp switches on.
+// List that sp switches on; with close, also the particles with a neighbour
+// within close->within2 (CloseNeighbours).
 template <int D, class List>
-void run_pair_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
+void run_pair_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
+                   CloseNeighbours* close = nullptr) {
   static constexpr auto table =
       loop_table<D, List>(std::make_index_sequence<Registry<List>::kCombinations>{});
-  table[Registry<List>::combination(sp)](sp, nl, ps);
+  table[Registry<List>::combination(sp)](sp, nl, ps, close);
 }
 
 // The combination run_pair_loop picks for sp, for tests and logs.

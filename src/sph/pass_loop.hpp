@@ -27,7 +27,14 @@
 //   template <int D> static bool wanted(const SphParams&, const SphParticles<D>&, i);
 // the particles whose value a reader uses; the others get 0 without their sums.
 // The free-surface pass's flag for the anti-clump term alone is such a Lite
-// (terms/free_surface.hpp, FreeSurfaceFlag).
+// (terms/free_surface.hpp, FreeSurfaceFlag). A pass may also declare
+//
+//   template <int D> static bool settled(const double* sums);
+//   using SettledIfPositive = <record field>;
+//
+// when its result cannot change once settled(sums) holds part way through
+// the list, provided that field is positive on every particle: it then
+// stops there (the flag's div r: its parts are V_j |F| r^2 >= 0).
 //
 // The loop is the pair loop's (pair_loop.hpp): records of the declared
 // fields, gathered lanes, a branch-free pair function over a chunk (pairs
@@ -121,6 +128,17 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
   const double support2 = 4.0 * sp.h * sp.h;
   const double inv_h = 1.0 / sp.h;
   const double kf = -10.0 * ctx.kw;
+  // Optional: a pass whose result is settled part way (P::settled) takes
+  // its neighbours in blocks of 16 and stops once it is, provided the
+  // records' field P::SettledIfPositive is positive everywhere (what makes
+  // every later part non-negative). Otherwise whole chunks, every pair.
+  std::size_t block = kChunk;
+  if constexpr (requires { typename P::SettledIfPositive; }) {
+    constexpr std::size_t o = Record::template offset<typename P::SettledIfPositive>();
+    bool positive = true;
+    for (std::size_t i = 0; i < n; ++i) positive = positive && rec[i].v[o] > 0.0;
+    if (positive) block = 16;
+  }
   const std::int32_t* nb = nl.indices();
   constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
   alignas(64) double lanes[Lanes::kSize * kChunk];
@@ -139,8 +157,8 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
     }
     const double* own = rec[i].v;
     double sums[kSums] = {};
-    for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
-      const std::size_t cnt = std::min(kChunk, e - b);
+    for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += block) {
+      const std::size_t cnt = std::min(block, e - b);
       for (std::size_t k = 0; k < cnt; ++k)
         GatherLanes<D, LaneFields>::template run<Lanes, Record>(own, rec[nb[b + k]], k, lanes);
       for (std::size_t k = 0; k < cnt; ++k) {
@@ -162,6 +180,8 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
       // In list (global-id) order.
       for (std::size_t k = 0; k < cnt; ++k)
         for (std::size_t m = 0; m < kSums; ++m) sums[m] += part[m][k];
+      if constexpr (requires { P::template settled<D>(sums); })
+        if (block < kChunk && P::template settled<D>(sums)) break;
     }
     out[i] = pass.template finish<D>(sums);
     // Optional: more fields from the same sums (store).

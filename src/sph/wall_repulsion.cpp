@@ -10,20 +10,37 @@
 // wall surface (dp/2 in front of the first layer), so no resin crosses a
 // wall (tests/test_free_surface.cpp, JetImpact).
 // Neighbours in list (global-id) order: the sum is rank-count independent.
+// Only the resin particles the pair loop found with a neighbour within r0
+// (CloseNeighbours, pair_loop.hpp) are visited; the others have no wall
+// within r0, so their sum is empty.
 #include <algorithm>
+#include <cstdint>
+#include <span>
+#include <vector>
 
 #include "sphdem/sph/sph.hpp"
 
 namespace sphdem {
 
 template <int D>
-void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
+double wall_repulsion_range2(const SphParams& sp) {
+  if (!sp.wall_repulsion) return -1.0;
+  const double r0 = 0.9 * sp.spacing;
+  // A margin over r0^2: the pair loop's r^2 may round differently from
+  // squaredNorm below; this loop decides each pair exactly.
+  return r0 * r0 * (1.0 + 1e-6);
+}
+
+template <int D>
+void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
+                        std::span<const std::uint32_t> candidates) {
   if (!sp.wall_repulsion) return;
   const double r0 = 0.9 * sp.spacing;
   const double r0_2 = r0 * r0;
   const double strength = sp.c0 * sp.c0;
   const std::int32_t* nb = nl.indices();
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+  for (const std::uint32_t c : candidates) {
+    const std::size_t i = c;
     if (ps.kind[i] != Kind::Fluid) continue;
     Vec<D> acc = Vec<D>::Zero();
     for (std::size_t n = nl.begin(i), e = nl.end(i); n < e; ++n) {
@@ -41,6 +58,19 @@ void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParti
   }
 }
 
+template <int D>
+void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
+  std::vector<std::uint32_t> all(ps.n_owned);
+  for (std::size_t i = 0; i < ps.n_owned; ++i) all[i] = static_cast<std::uint32_t>(i);
+  add_wall_repulsion<D>(sp, nl, ps, all);
+}
+
+template double wall_repulsion_range2<2>(const SphParams&);
+template double wall_repulsion_range2<3>(const SphParams&);
+template void add_wall_repulsion<2>(const SphParams&, const NeighborList<2>&, SphParticles<2>&,
+                                    std::span<const std::uint32_t>);
+template void add_wall_repulsion<3>(const SphParams&, const NeighborList<3>&, SphParticles<3>&,
+                                    std::span<const std::uint32_t>);
 template void add_wall_repulsion<2>(const SphParams&, const NeighborList<2>&, SphParticles<2>&);
 template void add_wall_repulsion<3>(const SphParams&, const NeighborList<3>&, SphParticles<3>&);
 

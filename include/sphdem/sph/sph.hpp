@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -162,9 +163,18 @@ void shift_particles(const SphParams& sp, double dt, const NeighborList<D>& nl, 
                      const std::function<void(SphGroup)>& forward);
 
 // The wall's short-range repulsion on the resin (src/sph/wall_repulsion.cpp),
-// added to the accelerations; compute_fluid_rates calls it when sp.wall_repulsion.
+// added to the accelerations of the owned candidates (every owned particle
+// without them); compute_fluid_rates calls it when sp.wall_repulsion with the
+// particles the pair loop found within wall_repulsion_range2 of a neighbour
+// (-1 when the repulsion is off). Particles left out must have no wall
+// neighbour that close.
+template <int D>
+void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
+                        std::span<const std::uint32_t> candidates);
 template <int D>
 void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps);
+template <int D>
+double wall_repulsion_range2(const SphParams& sp);
 
 // The viscous traction at the free surface (src/sph/surface_traction.cpp):
 // at the particles the free-surface pass flags, the (grad v)^T part of the

@@ -81,6 +81,16 @@ struct FreeSurfaceFlag {
   double finish(const double* sums) const {
     return sums[0] < kFreeSurfaceThreshold<D> ? 1.0 : 0.0;
   }
+  // With every V_j > 0 each part -V_j F r^2 is >= 0 (F <= 0; a t rounded
+  // just below 0 at the support's edge gives a part some 1e-40 of the
+  // threshold, below its rounding), so a sum in list order never falls
+  // back: once it reaches the threshold the flag is 0, as after the whole
+  // list (a NaN part would give 0 too). The pass stops there: the same bits.
+  using SettledIfPositive = field::Vol;
+  template <int D>
+  static bool settled(const double* sums) {
+    return sums[0] >= kFreeSurfaceThreshold<D>;
+  }
 };
 
 struct FreeSurfacePass {
