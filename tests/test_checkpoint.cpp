@@ -55,7 +55,9 @@ MPI_Comm first_ranks(int n) {
 }
 
 std::string work_dir(const std::string& name) {
-  return fs::absolute(fs::path("checkpoint_test") / (name + "_np" + std::to_string(world_size())))
+  // Under the build tree, wherever the binary is started from.
+  return (fs::path(SPHDEM_BINARY_DIR) / "checkpoint_test" /
+          (name + "_np" + std::to_string(world_size())))
       .string();
 }
 
