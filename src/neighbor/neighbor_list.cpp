@@ -112,7 +112,13 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
   const std::int32_t* cell_items = scratch + n;
   bin_resin_first<D>(g, ps, cell_start_, cell_resin_end_, scratch, scratch + n);
 
+  struct IdIndex {
+    std::int64_t id;
+    std::int32_t index;
+  };
+  thread_local std::vector<IdIndex> keyed;
   offset_.assign(n_own + 1, 0);
+  resin_near_walls_.clear();
   index_.clear();
   index_.reserve(n_own * (D == 2 ? 24 : 60));
   for (std::size_t i = 0; i < n_own; ++i) {
@@ -125,26 +131,37 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
       hi[k] = std::min(g.n[k] - 1, c[k] + 1);
     }
     const std::size_t first = index_.size();
+    bool wall_listed = false;
     for (long cz = lo[2]; cz <= hi[2]; ++cz)
       for (long cy = lo[1]; cy <= hi[1]; ++cy)
         for (long cx = lo[0]; cx <= hi[0]; ++cx) {
           const long cell = (cz * g.n[1] + cy) * g.n[0] + cx;
-          const std::int32_t last = wall_i ? cell_resin_end_[cell] : cell_start_[cell + 1];
+          const std::int32_t resin_end = cell_resin_end_[cell];
+          const std::int32_t last = wall_i ? resin_end : cell_start_[cell + 1];
           for (std::int32_t s = cell_start_[cell]; s < last; ++s) {
             const std::int32_t j = cell_items[s];
             if (static_cast<std::size_t>(j) == i) continue;
-            if ((xi - ps.x[j]).squaredNorm() < rc2) index_.push_back(j);
+            if ((xi - ps.x[j]).squaredNorm() < rc2) {
+              index_.push_back(j);
+              wall_listed = wall_listed || s >= resin_end;
+            }
           }
         }
+    if (wall_listed) resin_near_walls_.push_back(static_cast<std::int32_t>(i));
     // Two periodic images of one particle share a gid (a period shorter
     // than two cut-offs): their position breaks the tie, so the order never
     // depends on where the images sit in memory.
-    std::sort(index_.begin() + static_cast<std::ptrdiff_t>(first), index_.end(),
-              [&](std::int32_t a, std::int32_t b) {
-                if (ps.gid[a] != ps.gid[b]) return ps.gid[a] < ps.gid[b];
-                return std::lexicographical_compare(ps.x[a].begin(), ps.x[a].end(), ps.x[b].begin(),
-                                                    ps.x[b].end());
-              });
+    // The ids sit beside the indices while sorting (no gather of ps.gid
+    // per comparison: 3D lists are about 80 long).
+    keyed.clear();
+    for (std::size_t k = first; k < index_.size(); ++k)
+      keyed.push_back({ps.gid[index_[k]], index_[k]});
+    std::sort(keyed.begin(), keyed.end(), [&](const IdIndex& a, const IdIndex& b) {
+      if (a.id != b.id) return a.id < b.id;
+      return std::lexicographical_compare(ps.x[a.index].begin(), ps.x[a.index].end(),
+                                          ps.x[b.index].begin(), ps.x[b.index].end());
+    });
+    for (std::size_t k = first; k < index_.size(); ++k) index_[k] = keyed[k - first].index;
     if (index_.size() > std::numeric_limits<std::uint32_t>::max())
       throw std::length_error("sphdem: more than 2^32 neighbour pairs on one rank");
     offset_[i + 1] = static_cast<std::uint32_t>(index_.size());

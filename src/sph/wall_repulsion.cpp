@@ -10,6 +10,9 @@
 // wall surface (dp/2 in front of the first layer), so no resin crosses a
 // wall (tests/test_free_surface.cpp, JetImpact).
 // Neighbours in list (global-id) order: the sum is rank-count independent.
+// Only the resin particles with a wall particle in their list walk it
+// (NeighborList::resin_near_walls: in the 3D plate a fraction of the
+// resin); the others add a zero vector, as the full walk gave them.
 #include <algorithm>
 
 #include "sphdem/sph/sph.hpp"
@@ -23,9 +26,17 @@ void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParti
   const double r0_2 = r0 * r0;
   const double strength = sp.c0 * sp.c0;
   const std::int32_t* nb = nl.indices();
+  const std::vector<std::int32_t>& near = nl.resin_near_walls();
+  std::size_t next = 0;  // the next particle of `near`
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid) continue;
     Vec<D> acc = Vec<D>::Zero();
+    const bool walls_listed = next < near.size() && static_cast<std::size_t>(near[next]) == i;
+    if (!walls_listed) {
+      ps.a[i] += acc;
+      continue;
+    }
+    ++next;
     for (std::size_t n = nl.begin(i), e = nl.end(i); n < e; ++n) {
       const std::int32_t j = nb[n];
       if (ps.kind[j] != Kind::Wall) continue;

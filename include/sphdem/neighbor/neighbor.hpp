@@ -30,6 +30,9 @@ class NeighborList {
   std::size_t end(std::size_t i) const { return offset_[i + 1]; }
   const std::int32_t* indices() const { return index_.data(); }
   std::size_t total_pairs() const { return index_.size(); }
+  // The owned resin particles with a wall particle in their list, in
+  // ascending index order: only they can feel a wall's short-range force.
+  const std::vector<std::int32_t>& resin_near_walls() const { return resin_near_walls_; }
   double cutoff() const { return support_ + skin_; }
   double skin() const { return skin_; }
   std::int64_t builds() const { return builds_; }
@@ -41,6 +44,7 @@ class NeighborList {
   double support_, skin_;
   std::vector<std::uint32_t> offset_;  // 4 bytes per particle (build checks the count)
   std::vector<std::int32_t> index_;
+  std::vector<std::int32_t> resin_near_walls_;
   std::vector<Vec<D>> x_at_build_;
   std::int64_t builds_ = 0;
   // The cell grid's starts, kept to avoid reallocations (the binning's
