@@ -48,21 +48,52 @@ moving_walls:
     velocity_table: [[0, 0, -1], [1, 0, -3]]
 )";
 
-TEST(Filling, CountsAndWallLayers) {
-  const Case c = load_case_from_string(kBox, "box.yaml");
-  SphParticles<2> ps;
-  const InitialCounts n = build_initial_particles<2>(c, ps);
-  EXPECT_EQ(n.fluid, 50u);  // 10 x 5 lattice nodes
-  // 3 layers around a 10 x 10 cavity, less the outermost corner node of each
-  // corner: it lies 3.5 dp from the cavity, beyond the layers' 3 dp reach
-  // (and beyond any resin particle's 2.4 dp support).
-  EXPECT_EQ(n.wall, 16u * 16u - 100u - 4u);
+std::size_t lid_count(const SphParticles<2>& ps) {
   std::size_t lid = 0;
   for (std::size_t i = 0; i < ps.size(); ++i) {
     EXPECT_EQ(ps.gid[i], static_cast<std::int64_t>(i));
     if (ps.kind[i] == Kind::Wall && ps.wall[i] == 0) ++lid;
   }
-  EXPECT_EQ(lid, 30u) << "3 layers x 10 nodes above the cavity belong to the lid";
+  return lid;
+}
+
+TEST(Filling, CountsAndWallLayers) {
+  // h = 1.5 dp: the support 2h = 3 dp holds all 3 layers.
+  const Case c = load_case_from_string(kBox, "box.yaml", {"numerics.h_over_spacing=1.5"});
+  EXPECT_EQ(wall_layers_made(c), 3);
+  SphParticles<2> ps;
+  const InitialCounts n = build_initial_particles<2>(c, ps);
+  EXPECT_EQ(n.fluid, 50u);  // 10 x 5 lattice nodes
+  // 3 layers around a 10 x 10 cavity, less the outermost corner node of each
+  // corner: it lies 3.5 dp from the cavity, beyond the layers' 3 dp reach
+  // (and beyond any resin particle's 3 dp support).
+  EXPECT_EQ(n.wall, 16u * 16u - 100u - 4u);
+  EXPECT_EQ(lid_count(ps), 30u) << "3 layers x 10 nodes above the cavity belong to the lid";
+}
+
+// h = 1.2 dp (the default): the third layer lies 2.5 dp behind the wall
+// face, beyond the support 2h = 2.4 dp of a resin particle on the face, so
+// it is not made; the corner nodes 1.5 dp along both axes (2.12 dp from
+// the cavity) are within the support and are made, which two layers
+// (mold.wall_layers: 2, a reach of 2 dp) would drop.
+TEST(Filling, WallLayersTrimmedToTheSupport) {
+  const Case c = load_case_from_string(kBox, "box.yaml");
+  EXPECT_DOUBLE_EQ(wall_band(c), 2.4 * 0.1);
+  EXPECT_EQ(wall_layers_made(c), 2);
+  SphParticles<2> ps;
+  const InitialCounts n = build_initial_particles<2>(c, ps);
+  EXPECT_EQ(n.fluid, 50u);
+  EXPECT_EQ(n.wall, 14u * 14u - 100u) << "2 full layers, corners included";
+  EXPECT_EQ(lid_count(ps), 20u) << "2 layers x 10 nodes above the cavity";
+  // Every wall particle made is within the support of some point of the cavity.
+  for (std::size_t i = 0; i < ps.size(); ++i) {
+    if (ps.kind[i] != Kind::Wall) continue;
+    EXPECT_LE(union_distance<2>(c.mold.shapes, ps.x[i]), wall_band(c) + 1e-12);
+  }
+  // Fewer layers than the support needs are kept as asked.
+  const Case one = load_case_from_string(kBox, "box.yaml", {"mold.wall_layers=1"});
+  EXPECT_EQ(wall_layers_made(one), 1);
+  EXPECT_DOUBLE_EQ(wall_band(one), 0.1);
 }
 
 TEST(MovingWalls, TableAndPressureLimit) {

@@ -17,6 +17,7 @@
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/core/fault.hpp"
+#include "sphdem/geometry/geometry.hpp"
 #include "sphdem/parallel/agreement.hpp"
 #include "sphdem/parallel/comm.hpp"
 #include "sphdem/solver/coupled_window.hpp"
@@ -111,6 +112,18 @@ void print_estimate(const CaseSize& s, int ranks) {
       "resin, {:.3g} wall and {:.3g} DEM particles; set-up {}, running {}{})\n",
       format_bytes(s.bytes_per_rank()), ranks, s.resin, s.walls, s.dem, format_bytes(s.setup_bytes),
       format_bytes(s.run_bytes), s.setup_bytes >= s.run_bytes ? ": the peak is at set-up" : "");
+}
+
+// `sphdem check`: wall layers beyond the kernel's support are not made
+// (wall_band, geometry.hpp).
+void print_wall_trim(const Case& c) {
+  const int made = wall_layers_made(c);
+  if (made >= c.mold.wall_layers) return;
+  std::cout << fmt::format(
+      "  walls: {} of mold.wall_layers {} layers made; wall particles farther than the kernel's "
+      "support 2h = {:.3g} spacings from the cavity are in no resin particle's support and are "
+      "not made\n",
+      made, c.mold.wall_layers, 2.0 * c.numerics.h_over_spacing);
 }
 
 // `sphdem check --ranks P`: the estimate for P ranks, nothing built (the
@@ -233,6 +246,7 @@ int check_case(const Case& c, const Comm& comm, const CaseSize& size) {
       "  run time: about {:.0f} s on one core (at {:.1g} particle-steps/s)\n",
       c.name, D, sim.global_fluid_count(), sim.global_wall_count(), c.numerics.spacing, sp.h, sp.c0,
       ts.dt, to_string(ts.limit), c.numerics.end_time, steps, seconds, kParticleStepsPerSecond);
+  print_wall_trim(c);
   if (sp.implicit_viscosity) {
     const double dt_v = explicit_viscous_time_step(c.numerics, sp);
     std::cout << fmt::format(

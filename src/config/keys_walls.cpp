@@ -110,7 +110,8 @@ void check_wall_condition(const Map& m, W& w, Context&) {
 Section<Mold> make_mold() {
   Section<Mold> s;
   s.keys = {
-      integer("wall_layers", "", 1, &Mold::wall_layers, "layers of dummy wall particles")
+      integer("wall_layers", "", 1, &Mold::wall_layers,
+              "layers of dummy wall particles (those beyond the support 2h are not made)")
           .identity(),
       shape_list("shapes", &Mold::shapes, "the cavity is their union; polygons in 2D only")
           .required()

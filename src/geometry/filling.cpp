@@ -176,7 +176,7 @@ struct LatticeFill<D>::Impl {
         dom(simulation_domain<D>(kase)),
         L(make_lattice<D>(kase, dom)),
         tol(1e-9 * L.dx),
-        wall_reach(kase.mold.wall_layers * L.dx + tol),
+        wall_reach(wall_band(kase) + tol),
         mass(kase.resin.density * std::pow(L.dx, D)),
         up(up_direction<D>(kase)),
         nx(std::max(0L, L.last[0] - L.first[0] + 1)),

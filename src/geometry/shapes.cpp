@@ -127,6 +127,17 @@ Box<D> simulation_domain(const Case& c) {
   return b;
 }
 
+double wall_band(const Case& c) {
+  return std::min(c.mold.wall_layers * c.numerics.spacing, 2.0 * c.h());
+}
+
+int wall_layers_made(const Case& c) {
+  // The fill's tolerance (1e-9 spacings, filling.cpp) keeps a layer that
+  // lies on the band's edge.
+  const double layers = std::floor(wall_band(c) / c.numerics.spacing + 0.5 + 1e-9);
+  return static_cast<int>(std::min(static_cast<double>(c.mold.wall_layers), layers));
+}
+
 #define SPHDEM_INSTANTIATE(D)                                                        \
   template bool shape_contains<D>(const Shape&, const Vec<D>&, double);              \
   template double shape_distance<D>(const Shape&, const Vec<D>&);                    \

@@ -130,8 +130,7 @@ CaseSize estimate(const Case& c, int ranks) {
 
   if (!c.fill.empty()) {
     for (const Shape& f : c.fill) s.resin += measure(f, D) / std::pow(dx, D);
-    for (const Shape& m : c.mold.shapes)
-      s.walls += band(m, D, c.mold.wall_layers * dx) / std::pow(dx, D);
+    for (const Shape& m : c.mold.shapes) s.walls += band(m, D, wall_band(c)) / std::pow(dx, D);
     const Box<D> dom = simulation_domain<D>(c);
     s.lattice_nodes = 1;
     for (int d = 0; d < D; ++d) s.lattice_nodes *= (dom.hi[d] - dom.lo[d]) / dx + 1;

@@ -37,6 +37,18 @@ Box<D> mold_bounds(const Case& c);
 template <int D>
 Box<D> simulation_domain(const Case& c);
 
+// How far from the cavity wall particles are made: mold.wall_layers
+// spacings, but no farther than the kernel's support 2h. A lattice node
+// farther than 2h from the cavity is farther than 2h from every point in
+// it, so it is in no resin particle's support: as a wall particle it would
+// cost set-up, memory and a neighbour search at every rebuild and change
+// no resin value (docs/performance.md, "Wall layers trimmed to the support").
+double wall_band(const Case& c);
+
+// How many of mold.wall_layers lie within wall_band along a flat face
+// (layer k is (k - 1/2) spacings behind it): 2 of 3 at h = 1.2 spacings.
+int wall_layers_made(const Case& c);
+
 struct InitialCounts {
   std::size_t fluid = 0, wall = 0;
 };

@@ -46,6 +46,7 @@ class NeighborList {
   // The cell grid's starts, kept to avoid reallocations (the binning's
   // per-particle scratch is shared with sort_by_cell: neighbor_list.cpp).
   std::vector<std::int32_t> cell_start_;
+  std::vector<std::int32_t> cell_resin_end_;  // each cell's resin first, then its walls
 };
 
 // Reorders owned particles by cell of size `cell` (then by global id) for
