@@ -193,7 +193,11 @@ TEST(Config, FullCaseWallsAndOutput) {
   EXPECT_EQ(c.output.fields,
             (std::vector<std::string>{"velocity", "density", "pressure", "wall_id"}));
   EXPECT_EQ(c.output.progress_every, 50);
-  EXPECT_TRUE(c.warnings.empty());
+  // Its table (15 mm to 0.02 s, then 32.5 mm to 0.12 s) runs the piston
+  // through the 30 mm bath: the one warning.
+  ASSERT_EQ(c.warnings.size(), 1u);
+  EXPECT_TRUE(contains(c.warnings[0], "moving wall 'piston' (line ")) << c.warnings[0];
+  EXPECT_TRUE(contains(c.warnings[0], "0.0475 m")) << c.warnings[0];
   EXPECT_EQ(c.source_text, kFull);
   EXPECT_EQ(c.source_file, kFile);
 }
@@ -271,6 +275,28 @@ TEST(Config, HighMachIsAWarningNotAnError) {
                                        kFile);
   ASSERT_EQ(c.warnings.size(), 1u);
   EXPECT_TRUE(contains(c.warnings[0], "Mach number 0.167")) << c.warnings[0];
+}
+
+// A velocity table whose stroke by end_time carries the piston's face
+// through the mold and out of it is a warning naming the wall, its line and
+// the stroke. By hand: 0.5 -> 0.25 m/s over 0.02 s (7.5 mm), then 0.25 m/s
+// for 0.1 s (25 mm): 32.5 mm from y = 0.02, through the bottom at 0. At half
+// the speed (16.25 mm) it stays in the mold: no warning.
+TEST(Config, PistonStrokeBeyondTheMoldIsAWarning) {
+  const char* piston = R"(moving_walls:
+  - name: piston
+    region: {box: {min: [0, 0.02], max: [0.03, 0.021]}}
+    velocity_table: [[0, 0, -0.5], [0.02, 0, -0.25]]
+)";
+  const Case c = load_case_from_string(append(kMinimal, piston), kFile);
+  ASSERT_EQ(c.warnings.size(), 1u);
+  EXPECT_TRUE(contains(c.warnings[0], "moving wall 'piston' (line ")) << c.warnings[0];
+  EXPECT_TRUE(contains(c.warnings[0], "0.0325 m")) << c.warnings[0];
+  const Case slow =
+      load_case_from_string(append(kMinimal, edit(piston, "[[0, 0, -0.5], [0.02, 0, -0.25]]",
+                                                  "[[0, 0, -0.25], [0.02, 0, -0.125]]")),
+                            kFile);
+  EXPECT_TRUE(slow.warnings.empty()) << slow.warnings[0];
 }
 
 TEST(Config, LoadCaseReadsAFile) {

@@ -176,10 +176,12 @@ TEST(HostileInput, SizeEstimateFollowsTheGeometry) {
   const Case c = load_case_from_string(std::string(kMinimal), kFile);
   const CaseSize s = estimate_case_size(c, 1);
   // 0.03 x 0.02 m at 3e-4 m: 6667 resin particles (the lattice: 100 x 66);
-  // walls: the band of 3 layers around the 0.03 m square, (0.0318^2 -
-  // 0.03^2) / dx^2 = 1236.
+  // walls: the band around the 0.03 m square, as deep as the kernel's
+  // support 2h = 2.4 dx (less than the 3 layers asked for; wall_band,
+  // docs/performance.md "Wall layers trimmed to the support"),
+  // (0.03144^2 - 0.03^2) / dx^2 = 983.
   EXPECT_NEAR(s.resin, 6667, 1);
-  EXPECT_NEAR(s.walls, 1236, 1);
+  EXPECT_NEAR(s.walls, 983, 1);
   EXPECT_EQ(s.dem, 0);
   EXPECT_EQ(s.dominant_key, "numerics.spacing");
   EXPECT_GT(s.bytes_per_rank(), 1e6);

@@ -194,6 +194,89 @@ void warn_mach(Case& c) {
   }
 }
 
+// How far a moving wall's velocity table carries it by t_end: the table is
+// linear between rows and held constant before the first and after the last.
+Vec3a stroke(const VelocityTable& t, double t_end) {
+  Vec3a d{};
+  const std::size_t n = t.time.size();
+  if (n == 0 || t_end <= 0) return d;
+  auto add = [&](const Vec3a& v0, const Vec3a& v1, double dt) {
+    for (int k = 0; k < 3; ++k) d[k] += 0.5 * (v0[k] + v1[k]) * dt;
+  };
+  auto at = [&](double s) {  // the table at time s, inside [time[0], time[n-1]]
+    std::size_t i = 1;
+    while (i < n - 1 && t.time[i] < s) ++i;
+    const double w = (s - t.time[i - 1]) / (t.time[i] - t.time[i - 1]);
+    Vec3a v{};
+    for (int k = 0; k < 3; ++k) v[k] = (1 - w) * t.velocity[i - 1][k] + w * t.velocity[i][k];
+    return v;
+  };
+  add(t.velocity[0], t.velocity[0], std::clamp(t.time[0], 0.0, t_end));
+  for (std::size_t i = 1; i < n && t.time[i - 1] < t_end; ++i) {
+    const double a = std::max(t.time[i - 1], 0.0), b = std::min(t.time[i], t_end);
+    if (b > a) add(at(a), at(b), b - a);
+  }
+  if (t_end > t.time[n - 1])
+    add(t.velocity[n - 1], t.velocity[n - 1], t_end - std::max(t.time[n - 1], 0.0));
+  return d;
+}
+
+// A piston whose table carries its face into the mold and then out of it
+// again by the end time (through the bottom of its bath) would crush the
+// last resin into the walls: a blow-up, not a result. Warn, since a
+// pressure limit may stop it earlier. Box regions only; each point of the
+// leading face is followed along its path, and points that never enter the
+// mold (a piston wider than its bath) are ignored. A spacing of slack: the
+// paper's plates end their 30 mm bath with a 30.1 mm stroke, stopped by
+// their pressure limit.
+void warn_piston_stroke(Case& c) {
+  constexpr int kFacePoints = 9, kPathPoints = 32;
+  const int dim = c.dimension;
+  for (const MovingWall& w : c.moving_walls) {
+    if (w.region.type != Shape::Type::Box) continue;
+    const Vec3a d = stroke(w.velocity, c.numerics.end_time);
+    const double length = std::hypot(d[0], d[1], d[2]);
+    if (!(length > c.numerics.spacing)) continue;
+    // The face the motion leads with: the box's side along the stroke's
+    // largest component.
+    int k = 0;
+    for (int j = 1; j < dim; ++j)
+      if (std::abs(d[j]) > std::abs(d[k])) k = j;
+    const double back = (length - c.numerics.spacing) / length;
+    const int lateral = dim == 3 ? kFacePoints * kFacePoints : kFacePoints;
+    for (int f = 0; f < lateral; ++f) {
+      Vec3a q{};
+      int digit = f;
+      for (int j = 0; j < dim; ++j) {
+        if (j == k) {
+          q[j] = d[k] < 0 ? w.region.lo[j] : w.region.hi[j];
+          continue;
+        }
+        const double s = static_cast<double>(digit % kFacePoints) / (kFacePoints - 1);
+        digit /= kFacePoints;
+        q[j] = w.region.lo[j] + s * (w.region.hi[j] - w.region.lo[j]);
+      }
+      auto along = [&](double s) {
+        Vec3a p = q;
+        for (int j = 0; j < 3; ++j) p[j] += s * d[j];
+        return p;
+      };
+      bool entered = false;
+      for (int i = 1; i < kPathPoints && !entered; ++i)
+        entered = inside_mold(along(back * i / kPathPoints), c.mold.shapes, dim);
+      const Vec3a end = along(back);
+      if (!entered || inside_mold(end, c.mold.shapes, dim)) continue;
+      c.warnings.push_back(fmt::format(
+          "moving wall '{}' (line {}): its velocity_table carries it {:.3g} m by "
+          "numerics.end_time {:.3g} s, through the mold to {}, more than a spacing outside it: "
+          "it would crush the last resin into the mold's walls unless its pressure limit stops "
+          "it first (shorten the stroke or the end time, or deepen the resin ahead of it)",
+          w.name, w.line, length, c.numerics.end_time, format_point(along(1.0), dim)));
+      break;
+    }
+  }
+}
+
 Section<Case> make_case() {
   Section<Case> s;
   s.keys = {
@@ -235,6 +318,7 @@ Section<Case> make_case() {
     check_fill_inside_mold(c, m.self().source());
     warn_mach(c);
     warn_viscous_pressure(c);
+    warn_piston_stroke(c);
   };
   return s;
 }

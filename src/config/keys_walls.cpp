@@ -225,7 +225,9 @@ Section<MovingWall> make_moving_wall() {
       "the first and after the last row. With `pressure_limit`, the wall slows down\n"
       "whenever the resin pressure at its face would exceed the limit (the\n"
       "velocity-to-pressure switchover of a molding machine); `pressure_relax_time`\n"
-      "sets how fast that controller reacts.\n";
+      "sets how fast that controller reacts. `check` and `run` warn when the\n"
+      "table carries a box region's face more than a spacing out of the mold by\n"
+      "`numerics.end_time` (the piston would crush the last resin into the walls).\n";
   return s;
 }
 

@@ -278,4 +278,13 @@ std::optional<Vec3a> point_outside(const Shape& region, const std::vector<Shape>
   return std::nullopt;
 }
 
+bool inside_mold(const Vec3a& p, const std::vector<Shape>& mold, int dim) {
+  const auto [lo, hi] = bounds(mold);
+  double size = 0;
+  for (int d = 0; d < dim; ++d) size = std::max(size, hi[d] - lo[d]);
+  const double tol = 1e-9 * size;
+  return std::any_of(mold.begin(), mold.end(),
+                     [&](const Shape& s) { return inside_shape(p, s, dim, tol); });
+}
+
 }  // namespace sphdem::config

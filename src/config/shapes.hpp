@@ -27,4 +27,7 @@ Shape read_box(const Value& v, int dim);
 // 1e-9 of the mold's size from it count as inside.
 std::optional<Vec3a> point_outside(const Shape& region, const std::vector<Shape>& mold, int dim);
 
+// Whether `p` lies in the union of `mold` (with point_outside's tolerance).
+bool inside_mold(const Vec3a& p, const std::vector<Shape>& mold, int dim);
+
 }  // namespace sphdem::config

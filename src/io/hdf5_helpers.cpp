@@ -1,5 +1,10 @@
 #include "hdf5_helpers.hpp"
 
+#include <sys/statvfs.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
 #include <stdexcept>
 
 namespace sphdem::h5 {
@@ -13,6 +18,15 @@ herr_t keep_innermost(unsigned n, const H5E_error2_t* err, void* out) {
   return 0;
 }
 
+// The errno of MPI-IO's failing write is gone by the time HDF5 returns; a
+// file system with no block left for the user says why instead.
+bool disk_full(const std::string& path) {
+  std::filesystem::path dir = std::filesystem::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  struct statvfs fs {};
+  return statvfs(dir.c_str(), &fs) == 0 && fs.f_bavail == 0;
+}
+
 void write_scalar(hid_t obj, const char* name, hid_t file_type, hid_t mem_type, const void* value,
                   const std::string& path) {
   Handle space(H5Screate(H5S_SCALAR), H5Sclose, "create attribute space", path);
@@ -23,10 +37,20 @@ void write_scalar(hid_t obj, const char* name, hid_t file_type, hid_t mem_type, 
 }  // namespace
 
 void fail(const std::string& what, const std::string& path) {
+  // Through MPI-IO HDF5 says only "file write failed"; the system call's
+  // errno is still there. Only errors a write can cause are named, so a
+  // stale errno from an unrelated call never passes for the cause.
+  const int err = errno;
   std::string detail;
   H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, keep_innermost, &detail);
   std::string msg = "sphdem: HDF5 " + what + " failed for '" + path + "'";
   if (!detail.empty()) msg += ": " + detail;
+  const bool write_errno = err == ENOSPC || err == EDQUOT || err == EFBIG || err == EIO;
+  if (write_errno && detail.find(std::strerror(err)) == std::string::npos) {
+    msg += std::string(" (") + std::strerror(err) + ")";
+  } else if (disk_full(path)) {
+    msg += std::string(" (") + std::strerror(ENOSPC) + ": the file system holding it is full)";
+  }
   throw std::runtime_error(msg);
 }
 
