@@ -326,6 +326,21 @@ TEST(Droplet, ContactAngle60) {
   EXPECT_LE(held.reach_over, 0.0);
 }
 
+// Issue 18's goal at 120 degrees: the half disc retracts (its base
+// half-width from 16 to 11 dp) and settles within 5 degrees of 120 over
+// 20-30 ms in one piece. As for the cap at 120 (above) the mean is asserted
+// (the floor row's span moves the measure by about 4 degrees per particle),
+// and the swing over 20-30 ms must stay under 5 degrees: settled. Measured
+// 115.3 (113.8-116.5); before the near-wall normals (docs/physics.md
+// "Surface tension") mean 110.5, 103.5-118.0, and a swing that grew.
+TEST(Droplet, ContactAngle120FromTheHalfDisc) {
+  const Held held = hold(120.0, false);
+  EXPECT_NEAR(held.mean_deg, 120.0, 5.0);
+  EXPECT_LT(held.max_deg - held.min_deg, 5.0);
+  EXPECT_TRUE(held.one_piece);
+  EXPECT_LE(held.reach_over, 0.0);
+}
+
 // A 3D droplet as fill boxes, one per lattice row of nodes within the
 // sphere of radius n dp about the origin (nodes at (i + 1/2) dp: the domain
 // starts at a multiple of dp).
