@@ -8,4 +8,4 @@ sphdem_test(test_flow_conditions SOURCES test_flow_conditions.cpp RANKS 1 LABELS
 # against Laplace and Lamb (seconds); rank independence in test_parallel
 # (RankIndependence.Droplet2D).
 sphdem_test(test_surface_tension SOURCES test_surface_tension.cpp RANKS 1)
-sphdem_test(test_droplet SOURCES test_droplet.cpp RANKS 1 LABELS validation TIMEOUT 300)
+sphdem_test(test_droplet SOURCES test_droplet.cpp RANKS 1 LABELS validation TIMEOUT 600)

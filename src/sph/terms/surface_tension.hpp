@@ -9,7 +9,8 @@
 //      Shepard colour c_i = sum_j V_j W_ij (i included);
 //      unit outward normal n_i = -g_i / |g_i| where |g_i| h >= kNormalThreshold
 //      (Morris 2000's filter of unreliable normals) and c_i < kBulkColour (a
-//      full support is bulk), else n_i = 0;
+//      full support is bulk), else n_i = 0; within 2h of a wall blended
+//      toward the contact angle's normal (near_wall_normal);
 //   2. curvature  kappa_i = (D - 1) sum_j w_j V_j (n_j - n_i).grad W_ij
 //                             / sum_j w_j V_j (-F_ij) (|x_ij|^2 - (x_ij.n_i)^2),
 //      w_j = 1 for a neighbour with a normal: the divergence of n renormalised
@@ -93,6 +94,14 @@ struct ContactSin : ScalarField {
     out[0] = wall ? std::sin(deg * std::numbers::pi / 180.0) : 0.0;
   }
 };
+// A wall particle's depth behind the mold's surface, |wall_to_surface| (0 for resin).
+struct WallDepth : ScalarField {
+  static constexpr const char* name = "wall_depth";
+  template <int D>
+  static void fill(const SphParams&, const SphParticles<D>& ps, std::size_t i, double* out) {
+    out[0] = ps.kind[i] != Kind::Fluid ? ps.wall_to_surface[i].norm() : 0.0;
+  }
+};
 struct Colour : ScalarField {
   static constexpr const char* name = "colour";
   template <int D>
@@ -155,11 +164,13 @@ double depth_of_colour(double c) {
 struct SurfaceNormalPass {
   static constexpr const char* name = "colour";
   static constexpr const char* also_outputs[] = {"csf_normal"};
-  using Reads = Fields<field::Pos, field::Vol>;
+  using Reads = Fields<field::Pos, field::Vol, field::Fluid, field::WallNormal, field::WallDepth,
+                       field::ContactCos, field::ContactSin>;
   using Output = field::Colour;
   static constexpr SphGroup group = SphGroup::SurfaceNormal;
+  // g, the colour, and over the wall neighbours: sum V W, sum V W n_w, sum V W cos, sin, distance.
   template <int D>
-  static constexpr std::size_t kSums = D + 1;
+  static constexpr std::size_t kSums = 2 * D + 5;
   template <int D>
   static std::vector<double>& output(SphParticles<D>& ps) {
     return ps.colour;
@@ -169,17 +180,33 @@ struct SurfaceNormalPass {
 
   double threshold;  // kNormalThreshold / h
   double kw;         // W = kw t^4 (1 + 2q)
+  double reach;      // 2h: beyond it no wall particle is in the support
   template <int D>
   explicit SurfaceNormalPass(const TermContext<D>& c)
-      : threshold(kNormalThreshold / c.sp.h), kw(c.kw) {}
+      : threshold(kNormalThreshold / c.sp.h), kw(c.kw), reach(2.0 * c.sp.h) {}
 
-  // s[0..D) = g, s[D] = sum_j V_j W_ij.
+  // s[0..D) = g, s[D] = sum_j V_j W_ij; over the wall neighbours: s[D + 1]
+  // = sum V W, s[D + 2..2D + 2) = sum V W n_w, s[2D + 2], s[2D + 3] = sum V W
+  // cos theta, sin theta, s[2D + 4] = sum V W (i's height above the wall's surface).
   template <class P>
   void pair(const P& p, double* s) const {
+    constexpr int D = P::kDim;
     const double v = p.lane(field::Vol{});
-    for (int d = 0; d < P::kDim; ++d) s[d] = v * p.F * p.lane(field::Pos{}, d);
+    for (int d = 0; d < D; ++d) s[d] = v * p.F * p.lane(field::Pos{}, d);
     const double t2 = p.t * p.t;
-    s[P::kDim] = v * kw * t2 * t2 * (1.0 + 2.0 * p.q);
+    const double vw = v * kw * t2 * t2 * (1.0 + 2.0 * p.q);
+    s[D] = vw;
+    const double wall = (1.0 - p.lane(field::Fluid{})) * vw;
+    s[D + 1] = wall;
+    double xn = 0.0;
+    for (int d = 0; d < D; ++d) {
+      const double n = p.lane(field::WallNormal{}, d);
+      s[D + 2 + d] = wall * n;
+      xn += p.lane(field::Pos{}, d) * n;
+    }
+    s[2 * D + 2] = wall * p.lane(field::ContactCos{});
+    s[2 * D + 3] = wall * p.lane(field::ContactSin{});
+    s[2 * D + 4] = wall * (xn - p.lane(field::WallDepth{}));
   }
   // The colour without i's own part (store adds it).
   template <int D>
@@ -195,11 +222,35 @@ struct SurfaceNormalPass {
     // A full support (colour at least kBulkColour) is not at a free surface:
     // its gradient is the disorder of the bulk, not a normal.
     const bool bulk = ps.colour[i] >= kBulkColour;
-    ps.csf_normal[i] = norm >= threshold && !bulk ? Vec<D>(-g / norm) : Vec<D>::Zero();
+    Vec<D> n = norm >= threshold && !bulk ? Vec<D>(-g / norm) : Vec<D>::Zero();
+    const double cw = sums[D + 1];
+    if (cw > 0.0 && n.squaredNorm() > 0.0) n = near_wall_normal<D>(n, sums, cw);
+    ps.csf_normal[i] = n;
   }
   template <int D>
   void clear(SphParticles<D>& ps, std::size_t i) const {
     ps.csf_normal[i] = Vec<D>::Zero();
+  }
+  // Near a wall the colour counts the wall particles as resin, as if the
+  // resin filled the wall beyond the contact line: the normal of a surface
+  // particle on the floor row tilts away from the wall (about 30 degrees at
+  // 120, tests/test_surface_tension.cpp). It is blended toward the contact
+  // angle's normal n_w cos theta + t sin theta (t: the normal's part along
+  // the wall), fully at the wall's surface and not at all at the wall's
+  // reach 2h, linearly in i's height d above the surface (the wall's
+  // Shepard means of n_w, cos, sin and d); docs/physics.md "Surface tension".
+  template <int D>
+  Vec<D> near_wall_normal(const Vec<D>& n, const double* sums, double cw) const {
+    Vec<D> nw;
+    for (int d = 0; d < D; ++d) nw[d] = sums[D + 2 + d];
+    if (nw.norm() == 0.0) return n;
+    nw /= nw.norm();
+    Vec<D> t = n - n.dot(nw) * nw;
+    if (t.norm() > 0.0) t /= t.norm();
+    const Vec<D> n_theta = nw * (sums[2 * D + 2] / cw) + t * (sums[2 * D + 3] / cw);
+    const double f = std::clamp(1.0 - sums[2 * D + 4] / cw / reach, 0.0, 1.0);
+    const Vec<D> m = (1.0 - f) * n + f * n_theta;
+    return m.norm() > 0.0 ? Vec<D>(m / m.norm()) : n;
   }
 };
 
