@@ -26,7 +26,7 @@ bool flag_in_pair_loop(const SphParams& sp) {
 
 template <int D>
 void run_fluid_passes(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
-            const std::function<void(SphGroup)>& forward, bool flag_in_loop) {
+                      const std::function<void(SphGroup)>& forward, bool flag_in_loop) {
   terms::run_passes<D, terms::SphTerms>(sp, nl, ps, forward, terms::SphPasses{}, flag_in_loop);
   // The viscosity of a law, or asked for as output (a Newtonian resin's mu).
   const auto& out = sp.output_fields;
@@ -77,7 +77,7 @@ void pair_loop_with_flag(const SphParams& sp, const NeighborList<D>& nl, SphPart
 
 template <int D>
 void run_fluid_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
-           const std::function<void(SphGroup)>* flag_forward) {
+                     const std::function<void(SphGroup)>* flag_forward) {
   // The pair loop lists the particles close enough to a neighbour for the
   // wall repulsion, which then walks only their lists.
   thread_local terms::CloseNeighbours close;

@@ -211,8 +211,8 @@ struct SidePassOf {
 template <class S, class... Rest>
 struct SidePassOf<TermList<S, Rest...>> {
   using own = typename SidePassOfTerm<typename S::Term>::type;
-  using type = std::conditional_t<std::is_void_v<own>, typename SidePassOf<TermList<Rest...>>::type,
-                                  own>;
+  using type =
+      std::conditional_t<std::is_void_v<own>, typename SidePassOf<TermList<Rest...>>::type, own>;
 };
 template <class Sub, class L>
 struct SubsetOf;
@@ -398,8 +398,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     const std::int32_t* nb = nl.indices();
     constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
     alignas(64) double lanes[Lanes::kSize * kChunk];
-    alignas(64) double acc_lane[D][kChunk];  // per-pair acceleration
-    alignas(64) double drho_lane[kChunk];    // per-pair density rate
+    alignas(64) double acc_lane[D][kChunk];                             // per-pair acceleration
+    alignas(64) double drho_lane[kChunk];                               // per-pair density rate
     [[maybe_unused]] alignas(64) double side_lane[kSide ? kChunk : 1];  // the side pass's parts
 
     for (std::size_t at = 0; at < count; ++at) {
@@ -470,8 +470,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
           drho_lane[k] = (kWrites & kDrho) != 0 ? s.drho : 0.0;
           if constexpr (kSide) {
             double part[1];
-            Side{}.pair(PairView<D, Lanes, Record, typename Side::Reads, Fields<>>{lanes, k, own, r2,
-                                                                                   r, q, t, F},
+            Side{}.pair(PairView<D, Lanes, Record, typename Side::Reads, Fields<>>{lanes, k, own,
+                                                                                   r2, r, q, t, F},
                         part);
             side_lane[k] = part[0];
           }
@@ -548,7 +548,8 @@ std::array<LoopDescription (*)(), sizeof...(C)> description_table(std::index_seq
 
 template <int D, class List, class P, std::size_t... C>
 constexpr std::array<bool, sizeof...(C)> side_table(std::index_sequence<C...>) {
-  return {std::is_same_v<typename Needs<D, typename Registry<List>::template Select<C>>::Side, P>...};
+  return {
+      std::is_same_v<typename Needs<D, typename Registry<List>::template Select<C>>::Side, P>...};
 }
 
 // Continuity and momentum of every owned resin particle from the terms of
