@@ -490,13 +490,13 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
           }
 
         // 3. Sum in list (global-id) order.
-        // (The side pass's sum in the same loop, needed or not: a loop of
-        // its own cost more.)
         for (std::size_t k = 0; k < cnt; ++k) {
           for (int d = 0; d < D; ++d) acc[d] += acc_lane[d][k];
           drho_sum += drho_lane[k];
-          if constexpr (kSide) side_sum[0] += side_lane[k];
         }
+        if constexpr (kSide)
+          if (side_i)
+            for (std::size_t k = 0; k < cnt; ++k) side_sum[0] += side_lane[k];
       }
       ps.a[i] = acc + g;
       ps.drho[i] = drho_sum;
