@@ -19,6 +19,7 @@
 #include "../src/sph/pass_loop.hpp"
 #include "../src/sph/sph_terms.hpp"
 #include "sphdem/config/config.hpp"
+#include "sphdem/sph/fluid_rates.hpp"
 #include "sphdem/sph/sph.hpp"
 #include "validation_helpers.hpp"
 
@@ -170,6 +171,54 @@ TEST(FreeSurfaceFlag, DamBreakRunIsBitwiseTheFullPasses) {
 
 TEST(FreeSurfaceFlag, ChannelRunIsBitwiseTheFullPasses) {
   expect_same_run<2>(channel(), channel({"output.fields=[velocity, position_divergence]"}), 300);
+}
+
+// What the solver calls, compute_fluid_passes_and_rates (the flag computed
+// inside the pair loop; where a flag is 1 the records are filled again and the
+// lists holding one are computed again), against the flag pass followed by
+// the pair loop: the same rates and flags, bit for bit. Returns how many
+// resin particles were flagged (each makes the loop compute lists again).
+template <int D>
+int expect_flag_in_the_loop_is_the_pass(const Case& c, int steps) {
+  const SphParams sp = make_sph_params(c);
+  Simulation<D> sim(c, world(), quiet());
+  sim.advance(steps);
+  SphParticles<D> pass = sim.particles();
+  SphParticles<D> loop = pass;
+  NeighborList<D> nl(2.0 * sp.h, 0.0);
+  nl.build(pass);
+  compute_fluid_passes<D>(sp, nl, pass, [](SphGroup) {});
+  compute_fluid_rates<D>(sp, nl, pass);
+  // No forward here: the ghosts' flags must be 0 for the two to agree.
+  for (std::size_t j = pass.n_owned; j < pass.size(); ++j) EXPECT_EQ(pass.free_surface[j], 0.0);
+  std::fill(loop.free_surface.begin(), loop.free_surface.end(), -1.0);
+  std::vector<SphGroup> forwarded;
+  compute_fluid_passes_and_rates<D>(sp, nl, loop, [&](SphGroup g) { forwarded.push_back(g); });
+  EXPECT_EQ(forwarded, std::vector<SphGroup>{SphGroup::FreeSurface});  // from the pair loop
+  int flagged = 0, wrong = 0;
+  for (std::size_t i = 0; i < pass.n_owned; ++i) {
+    bool same = loop.free_surface[i] == pass.free_surface[i] && loop.drho[i] == pass.drho[i];
+    for (int d = 0; d < D; ++d) same = same && loop.a[i][d] == pass.a[i][d];
+    if (!same && wrong++ == 0)
+      ADD_FAILURE() << "first at particle " << i << ": flag " << pass.free_surface[i] << " / "
+                    << loop.free_surface[i] << ", drho " << pass.drho[i] << " / " << loop.drho[i];
+    flagged += pass.kind[i] == Kind::Fluid && pass.free_surface[i] != 0.0;
+  }
+  EXPECT_EQ(wrong, 0);
+  std::printf("[          ] %d flagged resin particles\n", flagged);
+  return flagged;
+}
+
+TEST(FreeSurfaceFlag, InsideThePairLoopOnTheDamBreak) {
+  EXPECT_GT(expect_flag_in_the_loop_is_the_pass<2>(dam_break(), 300), 0);
+}
+
+TEST(FreeSurfaceFlag, InsideThePairLoopInAChannel) {
+  EXPECT_EQ(expect_flag_in_the_loop_is_the_pass<2>(channel(), 300), 0);
+}
+
+TEST(FreeSurfaceFlag, InsideThePairLoopIn3D) {
+  EXPECT_GT(expect_flag_in_the_loop_is_the_pass<3>(sloshing_3d(), 100), 0);
 }
 
 }  // namespace

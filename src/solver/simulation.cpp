@@ -20,6 +20,7 @@
 #include "sphdem/solver/fiber_module.hpp"
 #include "sphdem/solver/resin_module.hpp"
 #include "sphdem/solver/solver.hpp"
+#include "sphdem/sph/fluid_rates.hpp"
 #include "sphdem/sph/implicit_viscosity.hpp"
 
 namespace sphdem {
@@ -161,11 +162,10 @@ void ResinModule<D>::rates() {
     ScopedPhase t(timers_, Phase::Halo);
     halo_.forward(ps_, SphGroup::WallState);
   }
-  compute_fluid_passes<D>(sp_, nl_, ps_, [this](SphGroup g) {
+  compute_fluid_passes_and_rates<D>(sp_, nl_, ps_, [this](SphGroup g) {
     ScopedPhase t(timers_, Phase::Halo);
     halo_.forward(ps_, g);
   });
-  compute_fluid_rates<D>(sp_, nl_, ps_);
   if (sp_.thermal) compute_heat_rates<D>(sp_, nl_, ps_);
   if (case_.output.front_events) {
     for (const WeldMark<D>& w : mark_weld_lines<D>(sp_, nl_, ps_)) {

@@ -1,34 +1,116 @@
 // The resin's rates: the neighbour-sum passes of pass_loop.hpp, then the pair loop of pair_loop.hpp
 // over the terms of sph_terms.hpp (docs/performance.md describes the loop's layout).
 #include <algorithm>
+#include <cstdint>
+#include <functional>
 #include <string_view>
+#include <vector>
 
 #include "pair_loop.hpp"
 #include "pass_loop.hpp"
 #include "sph_terms.hpp"
+#include "sphdem/sph/fluid_rates.hpp"
 
 namespace sphdem {
 
+namespace {
+
+// Whether the pair loop computes the free-surface flag on the side: the pass
+// would run as its Lite (only the anti-clump term reads the flag) and the
+// case's loop gathers the flag's lanes (x, m/rho) anyway.
 template <int D>
-void compute_fluid_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
+bool flag_in_pair_loop(const SphParams& sp) {
+  return terms::pass_run<terms::FreeSurfacePass>(sp, terms::SphTerms{}) == terms::PassRun::Lite &&
+         terms::pair_loop_computes<D, terms::SphTerms, terms::FreeSurfacePass::Lite>(sp);
+}
+
+template <int D>
+void run_fluid_passes(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
+                      const std::function<void(SphGroup)>& forward, bool flag_in_loop) {
+  terms::run_passes<D, terms::SphTerms>(sp, nl, ps, forward, terms::SphPasses{}, flag_in_loop);
+  // The viscosity of a law, or asked for as output (a Newtonian resin's mu).
+  const auto& out = sp.output_fields;
+  if (sp.variable_viscosity || std::find(out.begin(), out.end(), "viscosity") != out.end())
+    terms::compute_particle_viscosity(sp, ps);
+}
+
+// The pair loop with the free-surface flag computed on the side
+// (docs/performance.md, "The free-surface flag inside the pair loop"). The
+// records read the flag (anti-clump's R_a is 0 where it is 1), so the loop
+// runs on flags of 0 everywhere, then the flags are forwarded to the ghosts,
+// and where some flag is 1 (a resin particle on the surface with P < 0: the
+// only places the flag is set) those records are filled again and every
+// list that holds one of them is computed again, with the same operations in
+// the same order as a loop that had the flags from the start: the same bits
+// as the flag pass followed by the loop.
+template <int D>
+void pair_loop_with_flag(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
+                         terms::CloseNeighbours& close,
+                         const std::function<void(SphGroup)>& forward) {
+  std::vector<double>& flag = terms::FreeSurfacePass::output(ps);
+  std::fill(flag.begin(), flag.end(), 0.0);
+  terms::PairLoopRun run;
+  run.close = &close;
+  run.side = true;
+  terms::run_pair_loop<D, terms::SphTerms>(sp, nl, ps, run);
+  forward(terms::FreeSurfacePass::group);
+
+  thread_local std::vector<std::uint32_t> refill, redo;
+  refill.clear();
+  redo.clear();
+  for (std::size_t j = 0; j < ps.size(); ++j)
+    if (flag[j] != 0.0) refill.push_back(static_cast<std::uint32_t>(j));
+  if (refill.empty()) return;
+  const std::int32_t* nb = nl.indices();
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    bool changed = flag[i] != 0.0;
+    for (std::size_t b = nl.begin(i), e = nl.end(i); b < e && !changed; ++b)
+      changed = flag[static_cast<std::size_t>(nb[b])] != 0.0;
+    if (changed) redo.push_back(static_cast<std::uint32_t>(i));
+  }
+  run.side = false;
+  run.redo = &redo;
+  run.refill = &refill;
+  terms::run_pair_loop<D, terms::SphTerms>(sp, nl, ps, run);
+}
+
+template <int D>
+void run_fluid_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
+                     const std::function<void(SphGroup)>* flag_forward) {
   // The pair loop lists the particles close enough to a neighbour for the
   // wall repulsion, which then walks only their lists.
   thread_local terms::CloseNeighbours close;
   close.within2 = wall_repulsion_range2<D>(sp);
-  terms::run_pair_loop<D, terms::SphTerms>(sp, nl, ps, &close);
+  if (flag_forward != nullptr)
+    pair_loop_with_flag<D>(sp, nl, ps, close, *flag_forward);
+  else
+    terms::run_pair_loop<D, terms::SphTerms>(sp, nl, ps, &close);
   add_wall_repulsion<D>(sp, nl, ps, close.particles);
   // With implicit viscosity the traction is in the solve (implicit_viscosity.cpp).
   if (!sp.implicit_viscosity) add_free_surface_traction<D>(sp, nl, ps);
 }
 
+}  // namespace
+
+template <int D>
+void compute_fluid_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
+  run_fluid_rates<D>(sp, nl, ps, nullptr);
+}
+
 template <int D>
 void compute_fluid_passes(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
                           const std::function<void(SphGroup)>& forward) {
-  terms::run_passes<D, terms::SphTerms>(sp, nl, ps, forward, terms::SphPasses{});
-  // The viscosity of a law, or asked for as output (a Newtonian resin's mu).
-  const auto& out = sp.output_fields;
-  if (sp.variable_viscosity || std::find(out.begin(), out.end(), "viscosity") != out.end())
-    terms::compute_particle_viscosity(sp, ps);
+  run_fluid_passes<D>(sp, nl, ps, forward, false);
+}
+
+template <int D>
+void compute_fluid_passes_and_rates(const SphParams& sp, const NeighborList<D>& nl,
+                                    SphParticles<D>& ps,
+                                    const std::function<void(SphGroup)>& forward) {
+  const bool flag_in_loop = flag_in_pair_loop<D>(sp);
+  run_fluid_passes<D>(sp, nl, ps, forward, flag_in_loop);
+  run_fluid_rates<D>(sp, nl, ps, flag_in_loop ? &forward : nullptr);
 }
 
 // Each optional field with the options that read or write it; the passes'
@@ -84,6 +166,12 @@ template void compute_fluid_passes<2>(const SphParams&, const NeighborList<2>&, 
                                       const std::function<void(SphGroup)>&);
 template void compute_fluid_passes<3>(const SphParams&, const NeighborList<3>&, SphParticles<3>&,
                                       const std::function<void(SphGroup)>&);
+template void compute_fluid_passes_and_rates<2>(const SphParams&, const NeighborList<2>&,
+                                                SphParticles<2>&,
+                                                const std::function<void(SphGroup)>&);
+template void compute_fluid_passes_and_rates<3>(const SphParams&, const NeighborList<3>&,
+                                                SphParticles<3>&,
+                                                const std::function<void(SphGroup)>&);
 template void compute_fluid_rates<2>(const SphParams&, const NeighborList<2>&, SphParticles<2>&);
 template void compute_fluid_rates<3>(const SphParams&, const NeighborList<3>&, SphParticles<3>&);
 

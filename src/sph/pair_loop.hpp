@@ -190,6 +190,44 @@ struct Registry<TermList<Ts...>> {
   using Select = typename SelectImpl<C, std::index_sequence_for<Ts...>>::type;
 };
 
+// A pass whose output a term's record fields read and that the pair loop
+// can compute on the side (a term's optional `using SidePass = P;`, P a pass
+// of pass_loop.hpp with one sum): the anti-clump term's free-surface flag.
+template <class T>
+struct SidePassOfTerm {
+  using type = void;
+};
+template <class T>
+requires requires {
+  typename T::SidePass;
+}
+struct SidePassOfTerm<T> {
+  using type = typename T::SidePass;
+};
+template <class Sel>
+struct SidePassOf {
+  using type = void;
+};
+template <class S, class... Rest>
+struct SidePassOf<TermList<S, Rest...>> {
+  using own = typename SidePassOfTerm<typename S::Term>::type;
+  using type =
+      std::conditional_t<std::is_void_v<own>, typename SidePassOf<TermList<Rest...>>::type, own>;
+};
+template <class Sub, class L>
+struct SubsetOf;
+template <class... Fs, class L>
+struct SubsetOf<Fields<Fs...>, L> : std::bool_constant<(contains_v<Fs, L> && ...)> {};
+// The side pass when the loop gathers all its lanes anyway, else void.
+template <class P, class LaneFields>
+struct SideIfGathered {
+  using type = std::conditional_t<SubsetOf<typename P::Reads, LaneFields>::value, P, void>;
+};
+template <class LaneFields>
+struct SideIfGathered<void, LaneFields> {
+  using type = void;
+};
+
 // What the selected terms need: the outputs they write, the lanes they read
 // per neighbour, and the record (lanes, relative sources, own-only fields).
 template <int D, class Sel>
@@ -207,6 +245,8 @@ struct Needs<D, TermList<S...>> {
                                          typename OwnReadsOf<typename S::Term>::type...>::type;
   using Lanes = Layout<D, LaneFields>;
   using Record = Layout<D, RecordFields>;
+  // The pass this loop can compute on the side (PairLoopRun::side), or void.
+  using Side = typename SideIfGathered<typename SidePassOf<TermList<S...>>::type, LaneFields>::type;
   // No padding to whole cache lines: 88 bytes per particle on the channel
   // instead of 128 (docs/performance.md, "Memory per particle").
   static constexpr std::size_t kStride = Record::kSize;
@@ -296,26 +336,50 @@ struct CloseNeighbours {
   std::vector<std::uint32_t> particles;
 };
 
+// One run of the pair loop (run_pair_loop).
+struct PairLoopRun {
+  CloseNeighbours* close = nullptr;
+  // Also compute the loop's side pass (Needs::Side) into its output field,
+  // from the lanes and kernel values the loop has anyway, summed in list
+  // order as the pass sums them (docs/performance.md, "The free-surface
+  // flag inside the pair loop"). The records read that field as it is.
+  bool side = false;
+  // Set: only these owned resin particles, after filling the records of
+  // `refill` again (a second run of the same loop, once a side pass's output
+  // has changed some records; the other records are kept from the first run).
+  const std::vector<std::uint32_t>* redo = nullptr;
+  const std::vector<std::uint32_t>* refill = nullptr;
+};
+
 template <int D, class List, std::size_t C>
 void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
-                CloseNeighbours* close) {
+                const PairLoopRun& run) {
   using Sel = typename Registry<List>::template Select<C>;
   using N = Needs<D, Sel>;
   using Lanes = typename N::Lanes;
   using Record = typename N::Record;
+  using Side = typename N::Side;
+  constexpr bool kSide = !std::is_void_v<Side>;
   constexpr std::size_t kStride = N::kStride;
   constexpr unsigned kWrites = N::kWrites;
 
   const WendlandC2<D> kernel(sp.h);
   const TermContext<D> ctx{sp, kernel, kernel.w(0.0) / 16.0};
 
-  // 0. The records (every particle, ghosts included).
+  // 0. The records (every particle, ghosts included); a second run (redo)
+  // fills only those whose inputs changed.
   thread_local std::vector<PackedRecord<kStride>> records;
   const std::size_t n = ps.size();
-  resize_field(records, n);  // a small margin, not a doubling
+  if (run.redo == nullptr) {
+    resize_field(records, n);  // a small margin, not a doubling
+    PackedRecord<kStride>* rec = records.data();
+    for (std::size_t i = 0; i < n; ++i)
+      FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
+  } else {
+    for (const std::uint32_t j : *run.refill)
+      FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, j, records[j].v);
+  }
   PackedRecord<kStride>* rec = records.data();
-  for (std::size_t i = 0; i < n; ++i)
-    FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
 
   [&]<class... S>(TermList<S...>) {
     const std::tuple<typename S::Term...> terms{make_term<typename S::Term>(ctx)...};
@@ -323,17 +387,23 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     const double grad_scale = sp.grad_scale;
     const double inv_h = 1.0 / sp.h;
     const double kf = -10.0 * ctx.kw;
+    CloseNeighbours* const close = run.redo == nullptr ? run.close : nullptr;
     const double close2 = close != nullptr ? close->within2 : -1.0;
     if (close != nullptr) close->particles.clear();
+    [[maybe_unused]] const bool side = kSide && run.side && run.redo == nullptr;
+    const std::uint32_t* const redo = run.redo != nullptr ? run.redo->data() : nullptr;
+    const std::size_t count = run.redo != nullptr ? run.redo->size() : ps.n_owned;
     Vec<D> g;
     for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
     const std::int32_t* nb = nl.indices();
     constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
     alignas(64) double lanes[Lanes::kSize * kChunk];
-    alignas(64) double acc_lane[D][kChunk];  // per-pair acceleration
-    alignas(64) double drho_lane[kChunk];    // per-pair density rate
+    alignas(64) double acc_lane[D][kChunk];                             // per-pair acceleration
+    alignas(64) double drho_lane[kChunk];                               // per-pair density rate
+    [[maybe_unused]] alignas(64) double side_lane[kSide ? kChunk : 1];  // the side pass's parts
 
-    for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    for (std::size_t at = 0; at < count; ++at) {
+      const std::size_t i = redo != nullptr ? redo[at] : at;
       if (ps.kind[i] != Kind::Fluid) continue;
       const double* own = rec[i].v;
       const std::tuple<typename S::Term...> bound{for_particle(
@@ -343,6 +413,14 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               own})...};
       Vec<D> acc = Vec<D>::Zero();
       double drho_sum = 0.0;
+      [[maybe_unused]] double side_sum[1] = {};  // as the pass's sums start
+      // The side pass's value only where its readers read it (its wanted).
+      [[maybe_unused]] bool side_i = false;
+      if constexpr (kSide) {
+        side_i = side;
+        if constexpr (requires { Side::template wanted<D>(sp, ps, i); })
+          side_i = side_i && Side::template wanted<D>(sp, ps, i);
+      }
       int near = 0;  // some neighbour within close2
       for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
         const std::size_t cnt = std::min(kChunk, e - b);
@@ -390,6 +468,13 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             }
           }
           drho_lane[k] = (kWrites & kDrho) != 0 ? s.drho : 0.0;
+          if constexpr (kSide) {
+            double part[1];
+            Side{}.pair(PairView<D, Lanes, Record, typename Side::Reads, Fields<>>{lanes, k, own,
+                                                                                   r2, r, q, t, F},
+                        part);
+            side_lane[k] = part[0];
+          }
         }
 
         // Some neighbour within close2 (a loop of its own: inside step 2's
@@ -409,10 +494,16 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
           for (int d = 0; d < D; ++d) acc[d] += acc_lane[d][k];
           drho_sum += drho_lane[k];
         }
+        if constexpr (kSide)
+          if (side_i)
+            for (std::size_t k = 0; k < cnt; ++k) side_sum[0] += side_lane[k];
       }
       ps.a[i] = acc + g;
       ps.drho[i] = drho_sum;
       if (near != 0) close->particles.push_back(static_cast<std::uint32_t>(i));
+      // The side pass's value where it is read, 0 elsewhere (as the pass).
+      if constexpr (kSide)
+        if (side) Side::output(ps)[i] = side_i ? Side{}.template finish<D>(side_sum) : 0.0;
     }
   }(Sel{});
 }
@@ -444,7 +535,7 @@ LoopDescription describe_loop() {
 
 template <int D, class List>
 using LoopFn = void (*)(const SphParams&, const NeighborList<D>&, SphParticles<D>&,
-                        CloseNeighbours*);
+                        const PairLoopRun&);
 
 template <int D, class List, std::size_t... C>
 constexpr std::array<LoopFn<D, List>, sizeof...(C)> loop_table(std::index_sequence<C...>) {
@@ -455,15 +546,38 @@ std::array<LoopDescription (*)(), sizeof...(C)> description_table(std::index_seq
   return {&describe_loop<D, List, C>...};
 }
 
+template <int D, class List, class P, std::size_t... C>
+constexpr std::array<bool, sizeof...(C)> side_table(std::index_sequence<C...>) {
+  return {
+      std::is_same_v<typename Needs<D, typename Registry<List>::template Select<C>>::Side, P>...};
+}
+
 // Continuity and momentum of every owned resin particle from the terms of
-// List that sp switches on; with close, also the particles with a neighbour
-// within close->within2 (CloseNeighbours).
+// List that sp switches on (or of run.redo's), as PairLoopRun says.
+template <int D, class List>
+void run_pair_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
+                   const PairLoopRun& run) {
+  static constexpr auto table =
+      loop_table<D, List>(std::make_index_sequence<Registry<List>::kCombinations>{});
+  table[Registry<List>::combination(sp)](sp, nl, ps, run);
+}
+
+// The same; with close, also the particles with a neighbour within
+// close->within2 (CloseNeighbours).
 template <int D, class List>
 void run_pair_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
                    CloseNeighbours* close = nullptr) {
+  PairLoopRun run;
+  run.close = close;
+  run_pair_loop<D, List>(sp, nl, ps, run);
+}
+
+// Whether the loop sp selects can compute pass P on the side (PairLoopRun::side).
+template <int D, class List, class P>
+bool pair_loop_computes(const SphParams& sp) {
   static constexpr auto table =
-      loop_table<D, List>(std::make_index_sequence<Registry<List>::kCombinations>{});
-  table[Registry<List>::combination(sp)](sp, nl, ps, close);
+      side_table<D, List, P>(std::make_index_sequence<Registry<List>::kCombinations>{});
+  return table[Registry<List>::combination(sp)];
 }
 
 // The combination run_pair_loop picks for sp, for tests and logs.

@@ -191,13 +191,15 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
 }
 
 // The passes of Passes that sp needs, in order (each itself or its Lite),
-// each followed by forward(its group).
+// each followed by forward(its group). With lites_on_the_side, a pass that
+// would run as its Lite does not: the caller's pair loop computes it
+// (PairLoopRun::side) and forwards it.
 template <int D, class Terms, class Forward, class... Ps>
 void run_passes(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
-                const Forward& forward, PassList<Ps...>) {
+                const Forward& forward, PassList<Ps...>, bool lites_on_the_side = false) {
   const auto one = [&]<class P>(P*) {
     const PassRun how = pass_run<P>(sp, Terms{});
-    if (how == PassRun::Off) return;
+    if (how == PassRun::Off || (how == PassRun::Lite && lites_on_the_side)) return;
     if constexpr (requires { typename P::Lite; }) {
       if (how == PassRun::Lite)
         run_pass<D, typename P::Lite>(sp, nl, ps);

@@ -22,6 +22,8 @@
 
 namespace sphdem::terms {
 
+struct FreeSurfaceFlag;  // terms/free_surface.hpp
+
 // Per-particle part R_a (0 for non-negative pressure).
 inline double anti_clump_r(double eps, double p_over_rho2) {
   return p_over_rho2 < 0.0 ? -eps * p_over_rho2 : 0.0;
@@ -64,6 +66,9 @@ struct AntiClump {
   // Variant 0: n = 4, f^4 = (f^2)^2. Variant 1: any n.
   static constexpr int variants = 2;
   static int variant(const SphParams& sp) { return sp.anti_clump_n == 4 ? 0 : 1; }
+  // R_a reads the free-surface flag, which the pair loop computes on the side
+  // when only this term reads it (pair_loop.hpp, PairLoopRun::side).
+  using SidePass = FreeSurfaceFlag;
 
   double kw, inv_w_dp;  // W = kw t^4 (1 + 2q); 1 / W(dp)
   int n;
