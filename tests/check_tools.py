@@ -612,6 +612,53 @@ class ToolTest(unittest.TestCase):
         self.assertIn("2 mm^2", r.stdout)
         self.assertTrue(os.path.getsize(png) > 1000)
 
+    def test_front_report_channel_and_tracers(self):
+        # A 4 mm channel (walls at y = -4 and 0 mm, one row of wall particles
+        # 0.5 mm outside each) at 1 mm spacing; resin in both arms, |x| in
+        # [3, 10] mm, with the two centre rows one particle longer: tip 10.5,
+        # contacts 9.5, lead 1 dp = 1 / 1.5 of the semicircle's (W - dp)/2.
+        # The four centre-row particles of the right front (x 9-11, y
+        # -2.6..-1.4) are 2 mm from the walls at 0 s and on them at 0.01 s.
+        run = os.path.join(self.dir, "channel")
+        os.makedirs(run)
+        right = np.vstack([lattice(3 * MM, 10 * MM, -4 * MM, 0.0, dp=MM),
+                           [[10.5 * MM, -2.5 * MM], [10.5 * MM, -1.5 * MM]]])
+        resin = np.vstack([right, right * [-1, 1]])
+        xs = np.arange(-19.5, 20, 1.0) * MM
+        walls = np.vstack([np.stack([xs, np.full(len(xs), -4.5 * MM)], 1),
+                           np.stack([xs[np.abs(xs) > 3 * MM], np.full(int(np.sum(np.abs(xs) > 3 * MM)), 0.5 * MM)], 1)])
+        laid = resin.copy()
+        front = (resin[:, 0] > 9 * MM) & (resin[:, 1] > -2.6 * MM) & (resin[:, 1] < -1.4 * MM)
+        laid[front, 1] = np.where(resin[front, 1] < -2 * MM, -3.5 * MM, -0.5 * MM)
+        for k, (t, x) in enumerate([(0.0, resin), (0.01, laid)]):
+            write_snapshot(run, "channel", k, t, fluid=(x, np.zeros_like(x)), wall=walls)
+        sys.path.insert(0, TOOLS)
+        import front_report
+        snaps = [sphdem_io.Snapshot(r) for r in sphdem_io.list_snapshots(run)]
+        rows = front_report.channel_rows(snaps[:1], -4 * MM, 0.0, MM, 3 * MM)
+        self.assertEqual([r[1] for r in rows], [1, -1])
+        for r in rows:
+            self.assertAlmostEqual(r[2], 10.5 * MM, places=12)
+            self.assertAlmostEqual(r[3], 9.5 * MM, places=12)
+            self.assertAlmostEqual(r[4], 9.5 * MM, places=12)
+            self.assertAlmostEqual(r[5], 1.0, places=9)
+            self.assertAlmostEqual(r[6], 1 / 1.5, places=9)
+        png = self.out("tracers.png")
+        r = run_tool("front_report.py", run, "--spacing", 1e-3, "--channel=-4,0",
+                     "--tracers", "0:9,11,-2.6,-1.4", "--tracer-png", png)
+        self.assert_ok(r)
+        self.assertIn("tracers: 4 resin particles", r.stdout)
+        self.assertIn("t = 0.0000 s  on a wall   0 of   4", r.stdout)
+        self.assertIn("t = 0.0100 s  on a wall   4 of   4", r.stdout)
+        self.assertIn("lead  1.00 dp = 0.67", r.stdout)
+        self.assertTrue(os.path.getsize(png) > 1000)
+        r = run_tool("front_report.py", run, "--tracers", "0:30,31,0,1")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("no resin in", r.stderr)
+        r = run_tool("front_report.py", run, "--channel", "4")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("bad --channel", r.stderr)
+
     # --- melt_report.py: the real-melt plate's fill, profiles, frozen layers --
 
     def test_melt_report(self):

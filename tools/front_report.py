@@ -17,9 +17,27 @@ Reads a sphdem run's output directory (snapshots with the wall set, and the
 Optionally a figure (--png): the gap against time, and the events' positions
 over the last snapshot's mold, coloured by time.
 
+Is the front a fountain (docs/validation.md section 17)?
+- --channel Y0,Y1 (mm): the plate's two walls; per snapshot and per arm
+  (x beyond the gate, --gate half-width), the front's tip (the resin's
+  largest |x| in the plate), its wall contacts (the largest |x| of the resin
+  within one spacing of each wall) and the tip's lead over their mean, in
+  spacings and over the semicircle's lead for particle centres, (W - dp)/2.
+  A fountain front leads by about 0.8-1 of it; a plug gliding on the walls
+  by much more; a wall jet has no contact on one wall.
+- --tracers T:X0,X1,Y0,Y1 (mm; repeatable): the resin particles in that box
+  at the snapshot nearest T, followed by id through the later snapshots:
+  how many lie on a wall (a wall particle within 1.5 spacings: the first
+  resin row), their median distance from the walls, and how far behind the
+  arm's tip they are. In a fountain the core particles behind the front run
+  to it, turn and are laid on the walls; in a plug they stay in the core.
+  --tracer-png draws their paths, coloured by time.
+
 examples:
   tools/front_report.py out/plate
   tools/front_report.py out/plate --spacing 3e-4 --csv gap.csv --png docs/img/plate_front_events.png
+  tools/front_report.py out/plate_melt_front --spacing 6e-4 --channel=-4,0 \\
+      --tracers 0.05:9,13,-2.6,-1.4 --tracer-png tracers.png
 """
 import argparse
 import csv
@@ -80,12 +98,85 @@ def summarise(events):
     return lines
 
 
+def parse_floats(text, n, what):
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != n:
+        raise io.ToolError("bad %s '%s': want %d numbers separated by commas" % (what, text, n))
+    return values
+
+
+def arm_front(x, y0, y1, dp, gate, side):
+    """(tip, contact at y0, contact at y1) [m] of one arm (side +1: x > gate,
+    -1: x < -gate) as distances |x| from the centre; None without resin
+    there. A contact is None when no resin touches that wall."""
+    inside = (x[:, 1] > y0) & (x[:, 1] < y1) & (side * x[:, 0] > gate)
+    if not np.any(inside):
+        return None
+    d = side * x[inside, 0]
+    y = x[inside, 1]
+    low, high = d[y < y0 + dp], d[y > y1 - dp]
+    return (float(d.max()), float(low.max()) if len(low) else None,
+            float(high.max()) if len(high) else None)
+
+
+def channel_rows(snaps, y0, y1, dp, gate):
+    """Per snapshot and arm: (time, side, tip, contact0, contact1, lead in dp, lead /
+    the semicircle's), lead None without both contacts."""
+    rows, half = [], (y1 - y0 - dp) / 2
+    for s in snaps:
+        x = s.read("fluid/position")
+        for side in (1, -1):
+            f = arm_front(x, y0, y1, dp, gate, side)
+            if f is None:
+                continue
+            tip, c0, c1 = f
+            lead = tip - 0.5 * (c0 + c1) if c0 is not None and c1 is not None else None
+            rows.append((s.time, side, tip, c0, c1, None if lead is None else lead / dp,
+                         None if lead is None else lead / half))
+    return rows
+
+
+def track(snaps, t0, box):
+    """The resin particles in box (x0, x1, y0, y1) [m] at the snapshot nearest
+    t0, through that and the later snapshots: [(time, ids, positions,
+    distance to the nearest wall particle)]."""
+    from scipy.spatial import cKDTree
+    start = min(range(len(snaps)), key=lambda k: abs(snaps[k].time - t0))
+    x = snaps[start].read("fluid/position")
+    ids = snaps[start].read("fluid/id")
+    chosen = ids[(x[:, 0] >= box[0]) & (x[:, 0] <= box[1]) & (x[:, 1] >= box[2]) & (x[:, 1] <= box[3])]
+    if len(chosen) == 0:
+        raise io.ToolError("no resin in %s at t = %g s" % (fmt_box(box), snaps[start].time))
+    out = []
+    for s in snaps[start:]:
+        sid, sx = s.read("fluid/id"), s.read("fluid/position")
+        row = dict(zip(sid.tolist(), range(len(sid))))
+        keep = [i for i in chosen.tolist() if i in row]
+        p = sx[[row[i] for i in keep]]
+        walls = s.walls()
+        dist = cKDTree(walls).query(p)[0] if walls is not None and len(walls) else np.full(len(p), np.inf)
+        out.append((s.time, np.array(keep), p, dist))
+    return out
+
+
+def fmt_box(box):
+    return "x [%g, %g] mm, y [%g, %g] mm" % tuple(v / MM for v in box)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("directory", help="a run's output directory")
     ap.add_argument("--spacing", type=float, default=3e-4, help="particle spacing dp [m] (default 3e-4)")
     ap.add_argument("--csv", help="write time_s, piston_travel_m, gap_m, gap_spacings per snapshot")
     ap.add_argument("--png", help="figure: the gap against time and the events over the mold")
+    ap.add_argument("--channel", metavar="Y0,Y1", help="the plate's walls [mm]: the arms' front shape")
+    ap.add_argument("--gate", type=float, default=3.0, help="the gate's half-width [mm] (default 3)")
+    ap.add_argument("--tracers", action="append", default=[], metavar="T:X0,X1,Y0,Y1",
+                    help="follow the resin in this box [mm] at time T [s] (repeatable)")
+    ap.add_argument("--tracer-png", help="figure: the tracers' paths over the last snapshot's mold")
     a = ap.parse_args()
     snaps = [io.Snapshot(r) for r in io.list_snapshots(a.directory)]
     rows = []
@@ -104,6 +195,42 @@ def main():
         print("no *_front_events.csv in %s (output.front_events: true writes it)" % a.directory)
     else:
         print("\n".join(summarise(events)))
+    if a.channel:
+        y0, y1 = (v * MM for v in parse_floats(a.channel, 2, "--channel"))
+        print("arms' fronts (tip and wall contacts as |x| [mm]; lead over the semicircle's (W - dp)/2):")
+        for t, side, tip, c0, c1, lead, ratio in channel_rows(snaps, y0, y1, a.spacing, a.gate * MM):
+            c = lambda v: "  none" if v is None else "%6.2f" % (v / MM)
+            print("  t = %.4f s  %s arm  tip %6.2f  contacts %s %s  lead %s" % (
+                t, "right" if side > 0 else "left ", tip / MM, c(c0), c(c1),
+                "(a wall not reached)" if lead is None else "%5.2f dp = %.2f" % (lead, ratio)))
+    tracks = []
+    for spec in a.tracers:
+        t0, sep, rest = spec.partition(":")
+        try:
+            t0 = float(t0)
+        except ValueError:
+            sep = ""
+        if not sep:
+            raise io.ToolError("bad --tracers '%s': want T:X0,X1,Y0,Y1 (T in s, lengths in mm)" % spec)
+        box = [v * MM for v in parse_floats(rest, 4, "--tracers box")]
+        tr = track(snaps, t0, box)
+        tracks.append(tr)
+        print("tracers: %d resin particles in %s at t = %.4f s (on a wall: within 1.5 dp of a wall particle)"
+              % (len(tr[0][1]), fmt_box(box), tr[0][0]))
+        side = 1 if box[0] + box[1] >= 0 else -1
+        tips = {}
+        if a.channel:  # the arm's tip at each time, to say how far behind it the tracers are
+            tips = {r[0]: r[2] for r in channel_rows(snaps, y0, y1, a.spacing, a.gate * MM) if r[1] == side}
+        for t, ids, p, dist in tr:
+            on = dist < 1.5 * a.spacing
+            behind = ""
+            if t in tips and np.any(on):
+                behind = "  on-wall ones %.1f-%.1f dp behind the tip" % (
+                    float(np.min(tips[t] - side * p[on, 0])) / a.spacing,
+                    float(np.max(tips[t] - side * p[on, 0])) / a.spacing)
+            print("  t = %.4f s  on a wall %3d of %3d  median wall distance %5.2f dp  mean |x| %6.2f mm%s"
+                  % (t, int(np.sum(on)), len(ids), float(np.median(dist)) / a.spacing,
+                     float(np.mean(np.abs(p[:, 0]))) / MM, behind))
     if a.csv:
         io.write_csv(a.csv, ["time_s", "piston_travel_m", "gap_m", "gap_spacings"], rows)
     if a.png:
@@ -130,6 +257,28 @@ def main():
         fig.tight_layout()
         fig.savefig(a.png, dpi=130)
         print("wrote %s" % a.png)
+    if a.tracer_png and tracks:
+        plt = io.pyplot()
+        fig, ax = plt.subplots(figsize=(10, 4))
+        io.draw_mold(ax, snaps[-1])
+        x = snaps[-1].read("fluid/position")
+        ax.scatter(x[:, 0] / MM, x[:, 1] / MM, s=1, c="0.85", linewidths=0, rasterized=True)
+        every = np.vstack([p for tr in tracks for (_, _, p, _) in tr])
+        for tr in tracks:
+            t = np.concatenate([np.full(len(p), time * 1e3) for (time, _, p, _) in tr])
+            p = np.vstack([p for (_, _, p, _) in tr])
+            sc = ax.scatter(p[:, 0] / MM, p[:, 1] / MM, c=t, s=5, cmap="viridis", linewidths=0)
+        fig.colorbar(sc, ax=ax, label="t [ms]")
+        margin = 2.0
+        ax.set_xlim(every[:, 0].min() / MM - margin, every[:, 0].max() / MM + margin)
+        ax.set_ylim(every[:, 1].min() / MM - margin, every[:, 1].max() / MM + margin)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("y [mm]")
+        ax.set_title("tracers, coloured by time (grey: the resin at t = %.4g s)" % snaps[-1].time, fontsize=10)
+        fig.tight_layout()
+        fig.savefig(a.tracer_png, dpi=130)
+        print("wrote %s" % a.tracer_png)
 
 
 if __name__ == "__main__":
