@@ -711,6 +711,37 @@ class ToolTest(unittest.TestCase):
         self.assert_png(prefix + "_fill.png")
         self.assert_png(prefix + "_profiles.png")
 
+    # --- cap_profile.py: a sessile droplet's angle -------------------------------
+
+    def test_cap_profile(self):
+        """The lattice fill of the 120 degree cap (t = 0) and the same with one particle more at
+        each end of the floor row (t = 0.025, a foot): H = 19.0 and a = 11.0 dp give 119.86
+        degrees (tan(theta/2) = H/a); a = 12.0 gives 2 atan(19/12) = 115.45."""
+        import cap_profile
+        run = os.path.join(self.dir, "cap")
+        os.makedirs(run)
+        dp = 0.0625 * MM
+        with open(os.path.join(run, "case.yaml"), "w") as out:
+            out.write("name: cap\nnumerics:\n  spacing: 6.25e-05  # R / 16\n")
+        i, j = cap_profile.lattice_cap(402, math.radians(120.0))
+        cap = np.stack([i, j], axis=1) * dp
+        foot = np.vstack([cap, [[-11.5 * dp, 0.5 * dp], [11.5 * dp, 0.5 * dp]]])
+        files = [(write_snapshot(run, "cap", 0, 0.0, fluid=(cap, np.zeros_like(cap))), 0.0),
+                 (write_snapshot(run, "cap", 10, 0.025, fluid=(foot, np.zeros_like(foot))), 0.025)]
+        write_xdmf(run, "cap", files)
+        r = run_tool("cap_profile.py", run, "--theta", 120)
+        self.assert_ok(r)
+        self.assertIn("t 0.0000 s  cap angle  119.86 deg  H  19.00 dp  a  11.00 dp  floor row  22",
+                      r.stdout)
+        self.assertIn("cap angle mean 115.45, 115.45-115.45 deg; H 19.00 dp, a 12.00 dp, floor row 24.0",
+                      r.stdout)
+        self.assertIn("lattice fill of the 120 degree cap of the same area: cap angle 119.", r.stdout)
+        self.assertIn("usage:", run_tool("cap_profile.py", "--help").stdout)
+        missing = run_tool("cap_profile.py", os.path.join(self.dir, "no_such_run"), "--theta", 120)
+        self.assertEqual(missing.returncode, 1)
+        self.assertIn("no_such_run", missing.stderr)
+        self.assertNotIn("Traceback", missing.stderr)
+
     # --- every tool: --help and errors ---------------------------------------
 
     def test_help(self):
