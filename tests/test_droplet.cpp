@@ -323,10 +323,11 @@ TEST(Droplet, ContactAngle60HeldFromItsCap) {
 // "Surface tension") hold the cap at 114.8 (114.5-115.1; before them 116.2,
 // 115.2-116.8). The equilibrium lies below 120 by a foot: the floor row is
 // one particle wider at each end (a = 11.83 dp against the lattice cap's
-// 11.00) because the colour counts the wall as resin and the floor row's
-// surface force is 0.73 of the rest's. Restoring it (walls out of the
-// curvature's denominator, or the force over 1 - the wall's colour) raises
-// the cap to 120.8 or 117.3 but rings the half disc; docs/physics.md.
+// 11.00), likely because the colour counts the wall as resin and so the
+// floor row's surface force is about 0.73 of the rest's. Raising it (walls
+// out of the curvature's denominator, or the force over 1 - the wall's
+// colour) moves the cap to 120.8 or 117.3 but rings the half disc;
+// docs/physics.md "Surface tension".
 TEST(Droplet, ContactAngle120HeldFromItsCap) {
   const Held held = hold(120.0, true);
   EXPECT_NEAR(held.mean_deg, 120.0, 6.0);
