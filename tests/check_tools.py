@@ -203,8 +203,10 @@ class CaseFileTest(unittest.TestCase):
             self.assertEqual(c["mold"]["shapes"][:3], plate["mold"]["shapes"][:3], name)
             self.assertEqual((c["numerics"]["spacing"], c["numerics"]["h_over_spacing"]), (3e-4, 1.2), name)
             # The paper cases' fibers are fibers_only's with a time-step-compatible
-            # stiffness (docs/physics.md, "Fiber stiffness").
-            want = dict(fibers, count=375 if "8.3" in name else 175, youngs_modulus="1.0e8")
+            # stiffness (docs/physics.md, "Fiber stiffness") and a DEM step at 0.28 of
+            # the fibers' stable one (docs/performance.md, "The DEM sub-step's bound").
+            want = dict(fibers, count=375 if "8.3" in name else 175, youngs_modulus="1.0e8",
+                        dt_safety=0.6)
             self.assertEqual(c["fibers"], want, name)
             # Cavity below the bath: 800 mm^2 < the 900 mm^2 bath (V/P switchover).
             cavity = sum(self.area(s) for s in c["mold"]["shapes"][1:])

@@ -2,6 +2,7 @@
 # generator, and validation against docs/validation.md sections 2, 3 and 6.
 sphdem_test(test_dem SOURCES test_dem.cpp RANKS 1 LABELS "unit;dem")
 sphdem_test(test_dem_validation SOURCES test_dem_validation.cpp RANKS 1 LABELS "validation;dem")
+sphdem_test(test_dem_stable_step SOURCES test_dem_stable_step.cpp RANKS 1 LABELS "validation;dem")
 
 # The DEM-only case end to end (inputs/fibers_only.yaml): the paper's 175
 # fibers, packed into the bath's top 10 mm so that the piston, sped up to
