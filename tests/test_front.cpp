@@ -15,6 +15,7 @@
 
 #include "../src/sph/terms/anti_clump.hpp"
 #include "mpi_test_helpers.hpp"
+#include "resin_rows.hpp"
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/sph/eos.hpp"
@@ -181,10 +182,7 @@ TEST(TrappedAir, TheNotchClosedByTheOtherFrontIsOnePocket) {
 }
 
 // The weld-line flags and the event list, N ranks against one.
-struct Row {
-  std::int64_t gid = 0;
-  double value[3] = {};  // weld_line, x, y
-};
+using Row = testing::ResinRow<3>;  // weld_line, x, y
 
 struct WeldState {
   std::vector<Row> rows;       // per resin particle
@@ -204,18 +202,12 @@ WeldState run_weld(const Comm& comm) {
   testing::run_until(sim, kClosed);
   WeldState s;
   s.events = flatten(sim.front_events());
-  std::vector<Row> mine;
   const SphParticles<2>& ps = sim.particles();
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    if (ps.kind[i] != Kind::Fluid) continue;
-    Row r;
-    r.gid = ps.gid[i];
-    r.value[0] = ps.weld_line[i];
-    r.value[1] = ps.x[i][0];
-    r.value[2] = ps.x[i][1];
-    mine.push_back(r);
-  }
-  s.rows = testing_mpi::gather_rows(comm, mine);
+  s.rows = testing::gather_resin_rows<3>(comm, ps, [&](std::size_t i, double* v) {
+    v[0] = ps.weld_line[i];
+    v[1] = ps.x[i][0];
+    v[2] = ps.x[i][1];
+  });
   return s;
 }
 
