@@ -19,6 +19,7 @@
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/sph/eos.hpp"
+#include "sphdem/sph/front_events.hpp"
 #include "sphdem/sph/kernel.hpp"
 #include "validation_helpers.hpp"
 
@@ -157,6 +158,50 @@ TEST(WeldLines, TwoFrontsMakeAWeldLineOnTheMeetingPlane) {
   const SphParticles<2>& ps = sim.particles();
   for (std::size_t i = 0; i < ps.n_owned; ++i) flagged += ps.weld_line[i] != 0;
   EXPECT_EQ(flagged, welds);
+}
+
+// By hand (mold.vents): a resin block on a 1 mm lattice, 10 x 9 rows under a
+// row of wall particles, with a hole of 3 x 3 missing particles just under
+// the wall row. The hole is closed in by resin and that wall: trapped air
+// when the wall does not vent, the unfilled cavity when it does (every wall
+// when no vents are given; a vent over the hole's wall).
+std::vector<AirPocket> pockets_under_a_wall(const std::vector<Shape>& vents) {
+  const double dp = 1e-3;
+  SphParticles<2> ps;
+  std::int64_t id = 0;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) {
+      const bool hole = i >= 4 && i <= 6 && j >= 6 && j <= 8;
+      if (hole) continue;
+      const Vec<2> x((i + 0.5) * dp, (j + 0.5) * dp);
+      ps.push_owned(id++, j == 9 ? Kind::Wall : Kind::Fluid, j == 9 ? 0 : -1, 1.0, x, Vec<2>::Zero(),
+                    1000);
+    }
+  const VoidGrid<2> g = make_void_grid<2>(Box<2>{Vec<2>(0, 0), Vec<2>(10 * dp, 10 * dp)}, dp);
+  std::vector<double> marks;
+  mark_void_grid<2>(g, dp, ps, vents, marks);
+  return find_air_pockets<2>(g, marks);
+}
+
+Shape vent_box(double x0, double x1) {
+  Shape s;
+  s.lo = {x0, 9e-3, 0};
+  s.hi = {x1, 10e-3, 0};
+  return s;
+}
+
+TEST(TrappedAir, AirAgainstAWallIsTrappedUnlessTheWallVents) {
+  EXPECT_EQ(pockets_under_a_wall({}).size(), 0u) << "no vents given: every wall vents";
+  EXPECT_EQ(pockets_under_a_wall({vent_box(4e-3, 7e-3)}).size(), 0u) << "a vent over the hole";
+  const std::vector<AirPocket> p = pockets_under_a_wall({vent_box(0, 2e-3)});
+  ASSERT_EQ(p.size(), 1u) << "vents elsewhere: the hole is trapped air";
+  std::printf("[          ] pocket at (%.3f, %.3f) mm, %.3g mm^2\n", p[0].centroid[0] * 1e3,
+              p[0].centroid[1] * 1e3, p[0].size * 1e6);
+  EXPECT_NEAR(p[0].centroid[0], 5.5e-3, 1e-9);  // the hole's axis
+  EXPECT_GT(p[0].centroid[1], 6.5e-3);
+  EXPECT_LT(p[0].centroid[1], 8.5e-3);
+  EXPECT_GE(p[0].size, 1e-6);  // at least dp^2
+  EXPECT_LT(p[0].size, 9e-6);  // within the hole
 }
 
 TEST(TrappedAir, TheNotchClosedByTheOtherFrontIsOnePocket) {
