@@ -282,6 +282,12 @@ def main():
                 ts = [float(e["time_s"]) for e in welds["wake"]]
                 print("  wake rows span x %.2f-%.2f mm, y %.2f-%.2f mm, t %.4f-%.4f s" % (
                     min(xs), max(xs), min(ys), max(ys), min(ts), max(ts)))
+            air = [e for e in events if e["kind"] == "trapped_air"]
+            shadow = [e for e in air if float(e["x_m"]) > box[1] and box[2] < float(e["y_m"]) < box[3]]
+            print("trapped_air rows: %d in the shadow, %d elsewhere" % (len(shadow), len(air) - len(shadow)))
+            for e in shadow:
+                print("  shadow: t = %.4f s at (%.2f, %.2f) mm, %.3g mm^2" % (
+                    float(e["time_s"]), float(e["x_m"]) / MM, float(e["y_m"]) / MM, float(e["size"]) / MM ** 2))
     tracks = []
     for spec in a.tracers:
         t0, sep, rest = spec.partition(":")
