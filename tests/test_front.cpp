@@ -164,8 +164,18 @@ TEST(WeldLines, TwoFrontsMakeAWeldLineOnTheMeetingPlane) {
 // row of wall particles, with a hole of 3 x 3 missing particles just under
 // the wall row. The hole is closed in by resin and that wall: trapped air
 // when the wall does not vent, the unfilled cavity when it does (every wall
-// when no vents are given; a vent over the hole's wall).
-std::vector<AirPocket> pockets_under_a_wall(const std::vector<Shape>& vents) {
+// when no vents are given; a vent over the hole's wall), and never when the
+// hole lies outside the cavity (inside the mold's steel, e.g. an insert's
+// core beyond its wall layers).
+Shape box_shape(double x0, double y0, double x1, double y1) {
+  Shape s;
+  s.lo = {x0, y0, 0};
+  s.hi = {x1, y1, 0};
+  return s;
+}
+
+std::vector<AirPocket> pockets_under_a_wall(const std::vector<Shape>& vents,
+                                            double cavity_top = 9e-3) {
   const double dp = 1e-3;
   SphParticles<2> ps;
   std::int64_t id = 0;
@@ -174,20 +184,17 @@ std::vector<AirPocket> pockets_under_a_wall(const std::vector<Shape>& vents) {
       const bool hole = i >= 4 && i <= 6 && j >= 6 && j <= 8;
       if (hole) continue;
       const Vec<2> x((i + 0.5) * dp, (j + 0.5) * dp);
-      ps.push_owned(id++, j == 9 ? Kind::Wall : Kind::Fluid, j == 9 ? 0 : -1, 1.0, x, Vec<2>::Zero(),
-                    1000);
+      ps.push_owned(id++, j == 9 ? Kind::Wall : Kind::Fluid, j == 9 ? 0 : -1, 1.0, x,
+                    Vec<2>::Zero(), 1000);
     }
   const VoidGrid<2> g = make_void_grid<2>(Box<2>{Vec<2>(0, 0), Vec<2>(10 * dp, 10 * dp)}, dp);
   std::vector<double> marks;
-  mark_void_grid<2>(g, dp, ps, vents, marks);
+  mark_void_grid<2>(g, dp, ps, {box_shape(0, 0, 10 * dp, cavity_top)}, vents, marks);
   return find_air_pockets<2>(g, marks);
 }
 
 Shape vent_box(double x0, double x1) {
-  Shape s;
-  s.lo = {x0, 9e-3, 0};
-  s.hi = {x1, 10e-3, 0};
-  return s;
+  return box_shape(x0, 9e-3, x1, 10e-3);
 }
 
 TEST(TrappedAir, AirAgainstAWallIsTrappedUnlessTheWallVents) {
@@ -202,6 +209,7 @@ TEST(TrappedAir, AirAgainstAWallIsTrappedUnlessTheWallVents) {
   EXPECT_LT(p[0].centroid[1], 8.5e-3);
   EXPECT_GE(p[0].size, 1e-6);  // at least dp^2
   EXPECT_LT(p[0].size, 9e-6);  // within the hole
+  EXPECT_EQ(pockets_under_a_wall({vent_box(0, 2e-3)}, 5e-3).size(), 0u) << "outside the cavity";
 }
 
 TEST(TrappedAir, TheNotchClosedByTheOtherFrontIsOnePocket) {

@@ -59,8 +59,21 @@ std::int64_t cell_index(const VoidGrid<D>& g, const std::array<std::int64_t, 3>&
 
 template <int D>
 void mark_void_grid(const VoidGrid<D>& g, double spacing, const SphParticles<D>& ps,
-                    const std::vector<Shape>& vents, std::vector<double>& marks) {
+                    const std::vector<Shape>& cavity, const std::vector<Shape>& vents,
+                    std::vector<double>& marks) {
   marks.resize(static_cast<std::size_t>(3 * g.size()), 0.0);
+  if (!vents.empty()) {
+    std::array<std::int64_t, 3> c{0, 0, 0};
+    for (c[2] = 0; c[2] < g.n[2]; ++c[2])
+      for (c[1] = 0; c[1] < g.n[1]; ++c[1])
+        for (c[0] = 0; c[0] < g.n[0]; ++c[0]) {
+          Vec<D> centre;
+          for (int d = 0; d < D; ++d)
+            centre[d] = g.lo[d] + (static_cast<double>(c[d]) + 0.5) * g.cell;
+          if (!union_contains<D>(cavity, centre))
+            marks[static_cast<std::size_t>(3 * cell_index(g, c) + 2)] += 1.0;
+        }
+  }
   const double r2 = spacing * spacing;
   const int reach = static_cast<int>(std::ceil(spacing / g.cell));
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
@@ -147,9 +160,11 @@ template std::vector<WeldMark<3>> mark_weld_lines<3>(const SphParams&, const Nei
 template VoidGrid<2> make_void_grid<2>(const Box<2>&, double);
 template VoidGrid<3> make_void_grid<3>(const Box<3>&, double);
 template void mark_void_grid<2>(const VoidGrid<2>&, double, const SphParticles<2>&,
-                                const std::vector<Shape>&, std::vector<double>&);
+                                const std::vector<Shape>&, const std::vector<Shape>&,
+                                std::vector<double>&);
 template void mark_void_grid<3>(const VoidGrid<3>&, double, const SphParticles<3>&,
-                                const std::vector<Shape>&, std::vector<double>&);
+                                const std::vector<Shape>&, const std::vector<Shape>&,
+                                std::vector<double>&);
 template std::vector<AirPocket> find_air_pockets<2>(const VoidGrid<2>&, const std::vector<double>&);
 template std::vector<AirPocket> find_air_pockets<3>(const VoidGrid<3>&, const std::vector<double>&);
 

@@ -51,10 +51,14 @@ VoidGrid<D> make_void_grid(const Box<D>& domain, double spacing);
 // a particle marks every cell whose centre is within one spacing of it; a
 // wall particle inside one of the vents (mold.vents; empty: every wall
 // particle) marks the vent slot too. Summed over ranks (exact: counts), the
-// marks are the same at any rank count.
+// marks are the same at any rank count. With vents, a cell whose centre is
+// outside the cavity (the union of `cavity`; e.g. inside an insert beyond
+// the wall layers, or behind a piston) marks the vent slot: not air of the
+// cavity, and open.
 template <int D>
 void mark_void_grid(const VoidGrid<D>& g, double spacing, const SphParticles<D>& ps,
-                    const std::vector<Shape>& vents, std::vector<double>& marks);
+                    const std::vector<Shape>& cavity, const std::vector<Shape>& vents,
+                    std::vector<double>& marks);
 
 struct AirPocket {
   std::array<double, 3> centroid{};
