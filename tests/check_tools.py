@@ -661,6 +661,43 @@ class ToolTest(unittest.TestCase):
         self.assertEqual(r.returncode, 1)
         self.assertIn("bad --channel", r.stderr)
 
+    def test_front_report_insert(self):
+        # A 12 mm channel (y -6..6 mm) at 1 mm spacing with an insert x 10-14
+        # mm, |y| < 2 mm. 0 s: resin x < 9 mm; 0.01 s: both streams to x = 18
+        # mm, resin in the shadow at x 16-18 mm only: between the back face
+        # and x = 15.25 mm, |y| <= 1.25 mm the cells are more than a spacing
+        # from the resin: 3 x 6 cells of 0.25 mm^2 = 4.5 mm^2 of air.
+        run = os.path.join(self.dir, "insert")
+        os.makedirs(run)
+        first = lattice(0.0, 9 * MM, -6 * MM, 6 * MM, dp=MM)
+        later = np.vstack([lattice(0.0, 10 * MM, -6 * MM, 6 * MM, dp=MM),
+                           lattice(10 * MM, 18 * MM, 2 * MM, 6 * MM, dp=MM),
+                           lattice(10 * MM, 18 * MM, -6 * MM, -2 * MM, dp=MM),
+                           lattice(16 * MM, 18 * MM, -2 * MM, 2 * MM, dp=MM)])
+        xs = np.arange(0.5, 30, 1.0) * MM
+        walls = np.vstack([np.stack([xs, np.full(len(xs), y * MM)], 1) for y in (-6.5, 6.5)])
+        for k, (t, x) in enumerate([(0.0, first), (0.01, later)]):
+            write_snapshot(run, "insert", k, t, fluid=(x, np.zeros_like(x)), wall=walls)
+        with open(os.path.join(run, "insert_front_events.csv"), "w") as f:
+            f.write("time_s,kind,x_m,y_m,z_m,id,size\n"
+                    "0.005,weld_line,0.005,0.001,0,1,0\n"
+                    "0.006,weld_line,0.012,0.004,0,2,0\n"
+                    "0.007,weld_line,0.020,0.004,0,3,0\n"
+                    "0.011,weld_line,0.0162,0.0001,0,4,0\n"
+                    "0.01,trapped_air,0.015,0,0,0,4e-06\n"
+                    "0.01,trapped_air,0.005,0,0,1,1e-06\n")
+        r = run_tool("front_report.py", run, "--spacing", 1e-3, "--insert=10,14,-2,2")
+        self.assert_ok(r)
+        self.assertIn("t = 0.0000 s  upper   8.50  lower   8.50  shadow   none  air   0.00", r.stdout)
+        self.assertIn("t = 0.0100 s  upper  17.50  lower  17.50  shadow  17.50  air   4.50", r.stdout)
+        self.assertIn("both streams past the insert's back face (x = 14 mm) at t = 0.0100 s", r.stdout)
+        self.assertIn("weld_line rows: 1 wake, 1 upstream, 1 beside, 1 downstream", r.stdout)
+        self.assertIn("wake: t = 0.0110 s at (16.20, 0.10) mm", r.stdout)
+        self.assertIn("trapped_air rows: 1 in the shadow, 1 elsewhere", r.stdout)
+        r = run_tool("front_report.py", run, "--insert", "10,14")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("bad --insert", r.stderr)
+
     # --- melt_report.py: the real-melt plate's fill, profiles, frozen layers --
 
     def test_melt_report(self):

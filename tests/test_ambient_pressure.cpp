@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "mpi_test_helpers.hpp"
+#include "resin_rows.hpp"
 #include "sphdem/config/config.hpp"
 #include "sphdem/sph/eos.hpp"
 #include "sphdem/sph/kernel.hpp"
@@ -198,10 +199,7 @@ Case short_plate() {
                               "output.fields=[velocity, pressure, free_surface, weld_line]"});
 }
 
-struct Row {
-  std::int64_t gid = 0;
-  double value[3] = {};  // x, y, weld_line
-};
+using Row = testing::ResinRow<3>;  // x, y, weld_line
 
 struct PlateState {
   std::vector<Row> rows;  // per resin particle
@@ -237,18 +235,12 @@ PlateState run_plate(const Comm& comm, const std::string& out, bool write) {
   // At end_time run() only writes the last snapshot and the events so far
   // (output.front_events) to <case>_front_events.csv.
   if (write) sim.run();
-  std::vector<Row> mine;
   const SphParticles<2>& ps = sim.particles();
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    if (ps.kind[i] != Kind::Fluid) continue;
-    Row r;
-    r.gid = ps.gid[i];
-    r.value[0] = ps.x[i][0];
-    r.value[1] = ps.x[i][1];
-    r.value[2] = ps.weld_line[i];
-    mine.push_back(r);
-  }
-  s.rows = testing_mpi::gather_rows(comm, mine);
+  s.rows = testing::gather_resin_rows<3>(comm, ps, [&](std::size_t i, double* v) {
+    v[0] = ps.x[i][0];
+    v[1] = ps.x[i][1];
+    v[2] = ps.weld_line[i];
+  });
   return s;
 }
 

@@ -15,9 +15,11 @@
 
 #include "../src/sph/terms/anti_clump.hpp"
 #include "mpi_test_helpers.hpp"
+#include "resin_rows.hpp"
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/sph/eos.hpp"
+#include "sphdem/sph/front_events.hpp"
 #include "sphdem/sph/kernel.hpp"
 #include "validation_helpers.hpp"
 
@@ -158,6 +160,58 @@ TEST(WeldLines, TwoFrontsMakeAWeldLineOnTheMeetingPlane) {
   EXPECT_EQ(flagged, welds);
 }
 
+// By hand (mold.vents): a resin block on a 1 mm lattice, 10 x 9 rows under a
+// row of wall particles, with a hole of 3 x 3 missing particles just under
+// the wall row. The hole is closed in by resin and that wall: trapped air
+// when the wall does not vent, the unfilled cavity when it does (every wall
+// when no vents are given; a vent over the hole's wall), and never when the
+// hole lies outside the cavity (inside the mold's steel, e.g. an insert's
+// core beyond its wall layers).
+Shape box_shape(double x0, double y0, double x1, double y1) {
+  Shape s;
+  s.lo = {x0, y0, 0};
+  s.hi = {x1, y1, 0};
+  return s;
+}
+
+std::vector<AirPocket> pockets_under_a_wall(const std::vector<Shape>& vents,
+                                            double cavity_top = 9e-3) {
+  const double dp = 1e-3;
+  SphParticles<2> ps;
+  std::int64_t id = 0;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j) {
+      const bool hole = i >= 4 && i <= 6 && j >= 6 && j <= 8;
+      if (hole) continue;
+      const Vec<2> x((i + 0.5) * dp, (j + 0.5) * dp);
+      ps.push_owned(id++, j == 9 ? Kind::Wall : Kind::Fluid, j == 9 ? 0 : -1, 1.0, x,
+                    Vec<2>::Zero(), 1000);
+    }
+  const VoidGrid<2> g = make_void_grid<2>(Box<2>{Vec<2>(0, 0), Vec<2>(10 * dp, 10 * dp)}, dp);
+  std::vector<double> marks;
+  mark_void_grid<2>(g, dp, ps, {box_shape(0, 0, 10 * dp, cavity_top)}, vents, marks);
+  return find_air_pockets<2>(g, marks);
+}
+
+Shape vent_box(double x0, double x1) {
+  return box_shape(x0, 9e-3, x1, 10e-3);
+}
+
+TEST(TrappedAir, AirAgainstAWallIsTrappedUnlessTheWallVents) {
+  EXPECT_EQ(pockets_under_a_wall({}).size(), 0u) << "no vents given: every wall vents";
+  EXPECT_EQ(pockets_under_a_wall({vent_box(4e-3, 7e-3)}).size(), 0u) << "a vent over the hole";
+  const std::vector<AirPocket> p = pockets_under_a_wall({vent_box(0, 2e-3)});
+  ASSERT_EQ(p.size(), 1u) << "vents elsewhere: the hole is trapped air";
+  std::printf("[          ] pocket at (%.3f, %.3f) mm, %.3g mm^2\n", p[0].centroid[0] * 1e3,
+              p[0].centroid[1] * 1e3, p[0].size * 1e6);
+  EXPECT_NEAR(p[0].centroid[0], 5.5e-3, 1e-9);  // the hole's axis
+  EXPECT_GT(p[0].centroid[1], 6.5e-3);
+  EXPECT_LT(p[0].centroid[1], 8.5e-3);
+  EXPECT_GE(p[0].size, 1e-6);  // at least dp^2
+  EXPECT_LT(p[0].size, 9e-6);  // within the hole
+  EXPECT_EQ(pockets_under_a_wall({vent_box(0, 2e-3)}, 5e-3).size(), 0u) << "outside the cavity";
+}
+
 TEST(TrappedAir, TheNotchClosedByTheOtherFrontIsOnePocket) {
   const Case c = weld_case();
   const double dp = c.numerics.spacing;
@@ -181,10 +235,7 @@ TEST(TrappedAir, TheNotchClosedByTheOtherFrontIsOnePocket) {
 }
 
 // The weld-line flags and the event list, N ranks against one.
-struct Row {
-  std::int64_t gid = 0;
-  double value[3] = {};  // weld_line, x, y
-};
+using Row = testing::ResinRow<3>;  // weld_line, x, y
 
 struct WeldState {
   std::vector<Row> rows;       // per resin particle
@@ -204,18 +255,12 @@ WeldState run_weld(const Comm& comm) {
   testing::run_until(sim, kClosed);
   WeldState s;
   s.events = flatten(sim.front_events());
-  std::vector<Row> mine;
   const SphParticles<2>& ps = sim.particles();
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    if (ps.kind[i] != Kind::Fluid) continue;
-    Row r;
-    r.gid = ps.gid[i];
-    r.value[0] = ps.weld_line[i];
-    r.value[1] = ps.x[i][0];
-    r.value[2] = ps.x[i][1];
-    mine.push_back(r);
-  }
-  s.rows = testing_mpi::gather_rows(comm, mine);
+  s.rows = testing::gather_resin_rows<3>(comm, ps, [&](std::size_t i, double* v) {
+    v[0] = ps.weld_line[i];
+    v[1] = ps.x[i][0];
+    v[2] = ps.x[i][1];
+  });
   return s;
 }
 

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "mpi_test_helpers.hpp"
+#include "resin_rows.hpp"
 #include "sphdem/config/config.hpp"
 #include "validation_helpers.hpp"
 
@@ -46,29 +47,20 @@ Case coarse_front(const std::vector<std::string>& extra = {}) {
   return testing::load_input("plate_melt_front.yaml", sets);
 }
 
-struct Row {
-  std::int64_t gid = 0;
-  double value[5] = {};  // x, y, v_x, v_y, weld_line
-};
+using Row = testing::ResinRow<5>;  // x, y, v_x, v_y, weld_line
 
 std::vector<Row> run_front(const Comm& comm, const std::vector<std::string>& extra = {}) {
   const Case c = coarse_front(extra);
   Simulation<2> sim(c, comm, quiet());
   testing::run_until(sim, kEndTime);
-  std::vector<Row> mine;
   const SphParticles<2>& ps = sim.particles();
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    if (ps.kind[i] != Kind::Fluid) continue;
-    Row r;
-    r.gid = ps.gid[i];
-    r.value[0] = ps.x[i][0];
-    r.value[1] = ps.x[i][1];
-    r.value[2] = ps.v[i][0];
-    r.value[3] = ps.v[i][1];
-    r.value[4] = ps.weld_line[i];
-    mine.push_back(r);
-  }
-  return testing_mpi::gather_rows(comm, mine);
+  return testing::gather_resin_rows<5>(comm, ps, [&](std::size_t i, double* v) {
+    v[0] = ps.x[i][0];
+    v[1] = ps.x[i][1];
+    v[2] = ps.v[i][0];
+    v[3] = ps.v[i][1];
+    v[4] = ps.weld_line[i];
+  });
 }
 
 // One arm of the plate (side +1: x > the gate, -1: x < -it), distances as

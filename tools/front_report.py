@@ -33,11 +33,23 @@ Is the front a fountain (docs/validation.md section 17)?
   to it, turn and are laid on the walls; in a plug they stay in the core.
   --tracer-png draws their paths, coloured by time.
 
+Do two fronts meet behind an insert (a core the stream splits around)?
+- --insert X0,X1,Y0,Y1 (mm): the insert's box, the flow along +x. Per
+  snapshot, each stream's lead beside it (the largest x of the resin above
+  Y1 and below Y0), the resin's lead in its shadow (Y0 < y < Y1, x > X1)
+  and the empty area there between the insert's back face and that lead
+  (cells dp/2 wide with no resin within a spacing: the air the streams
+  close in against the insert, which the trapped-air list leaves out as
+  air against a wall); the weld rows sorted into the wake (the shadow),
+  upstream (x < X0), beside the insert and downstream outside the shadow,
+  with the first wake rows against the time both streams passed the insert.
+
 examples:
   tools/front_report.py out/plate
   tools/front_report.py out/plate --spacing 3e-4 --csv gap.csv --png docs/img/plate_front_events.png
   tools/front_report.py out/plate_melt_front --spacing 6e-4 --channel=-4,0 \\
       --tracers 0.05:9,13,-2.6,-1.4 --tracer-png tracers.png
+  tools/front_report.py out/insert_melt_front --spacing 6e-4 --insert=19,25,-2,2
 """
 import argparse
 import csv
@@ -162,6 +174,46 @@ def track(snaps, t0, box):
     return out
 
 
+def insert_rows(snaps, box, dp):
+    """Per snapshot, the streams around the insert box (x0, x1, y0, y1) [m]:
+    (time, upper stream's lead x, lower's, lead x in the shadow, empty area
+    [m^2] in the shadow between x1 and that lead); a lead None without resin."""
+    x0, x1, y0, y1 = box
+    cell = 0.5 * dp
+    rows = []
+    for s in snaps:
+        x = s.read("fluid/position")
+        lead = lambda m: float(x[m, 0].max()) if np.any(m) else None
+        upper, lower = lead(x[:, 1] > y1), lead(x[:, 1] < y0)
+        shadow = (x[:, 0] > x1) & (x[:, 1] > y0) & (x[:, 1] < y1)
+        wake = lead(shadow)
+        empty = 0.0
+        if wake is not None:
+            cx = np.arange(x1 + 0.5 * cell, wake, cell)
+            cy = np.arange(y0 + 0.5 * cell, y1, cell)
+            if len(cx) and len(cy):
+                from scipy.spatial import cKDTree
+                g = np.stack(np.meshgrid(cx, cy), axis=-1).reshape(-1, 2)
+                near = cKDTree(x).query(g, distance_upper_bound=dp * (1 + 1e-9))[0]
+                empty = float(np.sum(~np.isfinite(near))) * cell * cell
+        rows.append((s.time, upper, lower, wake, empty))
+    return rows
+
+
+def sort_welds(events, box):
+    """The weld rows by place: {'wake': [...], 'upstream', 'beside', 'downstream'}."""
+    x0, x1, y0, y1 = box
+    out = {"wake": [], "upstream": [], "beside": [], "downstream": []}
+    for e in events:
+        if e["kind"] != "weld_line":
+            continue
+        x, y = float(e["x_m"]), float(e["y_m"])
+        place = ("upstream" if x < x0 else "beside" if x <= x1
+                 else "wake" if y0 < y < y1 else "downstream")
+        out[place].append(e)
+    return out
+
+
 def fmt_box(box):
     return "x [%g, %g] mm, y [%g, %g] mm" % tuple(v / MM for v in box)
 
@@ -177,6 +229,8 @@ def main():
     ap.add_argument("--tracers", action="append", default=[], metavar="T:X0,X1,Y0,Y1",
                     help="follow the resin in this box [mm] at time T [s] (repeatable)")
     ap.add_argument("--tracer-png", help="figure: the tracers' paths over the last snapshot's mold")
+    ap.add_argument("--insert", metavar="X0,X1,Y0,Y1",
+                    help="an insert's box [mm], flow along +x: the streams around it and the weld line behind it")
     a = ap.parse_args()
     snaps = [io.Snapshot(r) for r in io.list_snapshots(a.directory)]
     rows = []
@@ -203,6 +257,37 @@ def main():
             print("  t = %.4f s  %s arm  tip %6.2f  contacts %s %s  lead %s" % (
                 t, "right" if side > 0 else "left ", tip / MM, c(c0), c(c1),
                 "(a wall not reached)" if lead is None else "%5.2f dp = %.2f" % (lead, ratio)))
+    if a.insert:
+        box = [v * MM for v in parse_floats(a.insert, 4, "--insert")]
+        print("streams around the insert %s (leads as x [mm]; air: empty area in its shadow [mm^2]):"
+              % fmt_box(box))
+        passed = None
+        for t, upper, lower, wake, empty in insert_rows(snaps, box, a.spacing):
+            c = lambda v: "  none" if v is None else "%6.2f" % (v / MM)
+            print("  t = %.4f s  upper %s  lower %s  shadow %s  air %6.2f" % (
+                t, c(upper), c(lower), c(wake), empty / MM ** 2))
+            if passed is None and upper is not None and lower is not None and min(upper, lower) > box[1]:
+                passed = t
+        print("both streams past the insert's back face (x = %g mm) at %s" % (
+            box[1] / MM, "no snapshot" if passed is None else "t = %.4f s" % passed))
+        if events is not None:
+            welds = sort_welds(events, box)
+            print("weld_line rows: %s" % ", ".join("%d %s" % (len(v), k) for k, v in welds.items()))
+            for e in sorted(welds["wake"], key=lambda e: float(e["time_s"]))[:5]:
+                print("  wake: t = %.4f s at (%.2f, %.2f) mm" % (
+                    float(e["time_s"]), float(e["x_m"]) / MM, float(e["y_m"]) / MM))
+            if welds["wake"]:
+                xs = [float(e["x_m"]) / MM for e in welds["wake"]]
+                ys = [float(e["y_m"]) / MM for e in welds["wake"]]
+                ts = [float(e["time_s"]) for e in welds["wake"]]
+                print("  wake rows span x %.2f-%.2f mm, y %.2f-%.2f mm, t %.4f-%.4f s" % (
+                    min(xs), max(xs), min(ys), max(ys), min(ts), max(ts)))
+            air = [e for e in events if e["kind"] == "trapped_air"]
+            shadow = [e for e in air if float(e["x_m"]) > box[1] and box[2] < float(e["y_m"]) < box[3]]
+            print("trapped_air rows: %d in the shadow, %d elsewhere" % (len(shadow), len(air) - len(shadow)))
+            for e in shadow:
+                print("  shadow: t = %.4f s at (%.2f, %.2f) mm, %.3g mm^2" % (
+                    float(e["time_s"]), float(e["x_m"]) / MM, float(e["y_m"]) / MM, float(e["size"]) / MM ** 2))
     tracks = []
     for spec in a.tracers:
         t0, sep, rest = spec.partition(":")

@@ -121,6 +121,10 @@ Section<Mold> make_mold() {
       contact_angle<Mold>("90").identity(),
       wall_temperature<Mold>("none (adiabatic)").identity(),
       heat_transfer_coefficient<Mold>().identity(),
+      shape_list("vents", &Mold::vents,
+                 "with output.front_events: the wall particles inside these shapes vent the "
+                 "cavity; air closed in by resin and walls that vent nowhere is trapped air")
+          .defaults_to("none: every wall vents"),
   };
   s.finish = check_wall_condition<Mold>;
   s.notes =

@@ -192,7 +192,7 @@ std::vector<FrontEvent> ResinModule<D>::collect_front_events(bool pockets) {
   if (!pockets) return events;
   const VoidGrid<D> grid = make_void_grid<D>(domain_, sp_.spacing);
   std::vector<double> marks;
-  mark_void_grid<D>(grid, sp_.spacing, ps_, marks);
+  mark_void_grid<D>(grid, sp_.spacing, ps_, case_.mold.shapes, case_.mold.vents, marks);
   {
     ScopedPhase t(timers_, Phase::Wait);
     comm_.sum(std::span<double>(marks));

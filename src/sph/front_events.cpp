@@ -59,12 +59,26 @@ std::int64_t cell_index(const VoidGrid<D>& g, const std::array<std::int64_t, 3>&
 
 template <int D>
 void mark_void_grid(const VoidGrid<D>& g, double spacing, const SphParticles<D>& ps,
+                    const std::vector<Shape>& cavity, const std::vector<Shape>& vents,
                     std::vector<double>& marks) {
-  marks.resize(static_cast<std::size_t>(2 * g.size()), 0.0);
+  marks.resize(static_cast<std::size_t>(3 * g.size()), 0.0);
+  if (!vents.empty()) {
+    std::array<std::int64_t, 3> c{0, 0, 0};
+    for (c[2] = 0; c[2] < g.n[2]; ++c[2])
+      for (c[1] = 0; c[1] < g.n[1]; ++c[1])
+        for (c[0] = 0; c[0] < g.n[0]; ++c[0]) {
+          Vec<D> centre;
+          for (int d = 0; d < D; ++d)
+            centre[d] = g.lo[d] + (static_cast<double>(c[d]) + 0.5) * g.cell;
+          if (!union_contains<D>(cavity, centre))
+            marks[static_cast<std::size_t>(3 * cell_index(g, c) + 2)] += 1.0;
+        }
+  }
   const double r2 = spacing * spacing;
   const int reach = static_cast<int>(std::ceil(spacing / g.cell));
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    const int slot = ps.kind[i] == Kind::Fluid ? 0 : 1;
+    const bool resin = ps.kind[i] == Kind::Fluid;
+    const bool vent = !resin && (vents.empty() || union_contains<D>(vents, ps.x[i]));
     std::array<std::int64_t, 3> lo{0, 0, 0}, hi{0, 0, 0};
     for (int d = 0; d < D; ++d) {
       const auto c = static_cast<std::int64_t>(std::floor((ps.x[i][d] - g.lo[d]) / g.cell));
@@ -80,7 +94,10 @@ void mark_void_grid(const VoidGrid<D>& g, double spacing, const SphParticles<D>&
             const double centre = g.lo[d] + (static_cast<double>(c[d]) + 0.5) * g.cell;
             d2 += (centre - ps.x[i][d]) * (centre - ps.x[i][d]);
           }
-          if (d2 <= r2) marks[static_cast<std::size_t>(2 * cell_index(g, c) + slot)] += 1.0;
+          if (d2 > r2) continue;
+          const auto k = static_cast<std::size_t>(3 * cell_index(g, c));
+          marks[k + (resin ? 0 : 1)] += 1.0;
+          if (vent) marks[k + 2] += 1.0;
         }
   }
 }
@@ -88,8 +105,9 @@ void mark_void_grid(const VoidGrid<D>& g, double spacing, const SphParticles<D>&
 template <int D>
 std::vector<AirPocket> find_air_pockets(const VoidGrid<D>& g, const std::vector<double>& marks) {
   const std::int64_t n = g.size();
-  const auto resin = [&](std::int64_t k) { return marks[static_cast<std::size_t>(2 * k)] > 0; };
-  const auto wall = [&](std::int64_t k) { return marks[static_cast<std::size_t>(2 * k + 1)] > 0; };
+  const auto resin = [&](std::int64_t k) { return marks[static_cast<std::size_t>(3 * k)] > 0; };
+  const auto wall = [&](std::int64_t k) { return marks[static_cast<std::size_t>(3 * k + 1)] > 0; };
+  const auto vent = [&](std::int64_t k) { return marks[static_cast<std::size_t>(3 * k + 2)] > 0; };
   std::vector<char> seen(static_cast<std::size_t>(n), 0);
   std::vector<std::int64_t> stack;
   std::vector<AirPocket> pockets;
@@ -117,7 +135,7 @@ std::vector<AirPocket> find_air_pockets(const VoidGrid<D>& g, const std::vector<
             continue;
           }
           const std::int64_t q = cell_index(g, m);
-          if (wall(q)) open = true;  // air against the mold: the unfilled cavity
+          if (vent(q)) open = true;  // air that leaves through a vent: the unfilled cavity
           if (seen[static_cast<std::size_t>(q)] || resin(q) || wall(q)) continue;
           seen[static_cast<std::size_t>(q)] = 1;
           stack.push_back(q);
@@ -142,8 +160,10 @@ template std::vector<WeldMark<3>> mark_weld_lines<3>(const SphParams&, const Nei
 template VoidGrid<2> make_void_grid<2>(const Box<2>&, double);
 template VoidGrid<3> make_void_grid<3>(const Box<3>&, double);
 template void mark_void_grid<2>(const VoidGrid<2>&, double, const SphParticles<2>&,
+                                const std::vector<Shape>&, const std::vector<Shape>&,
                                 std::vector<double>&);
 template void mark_void_grid<3>(const VoidGrid<3>&, double, const SphParticles<3>&,
+                                const std::vector<Shape>&, const std::vector<Shape>&,
                                 std::vector<double>&);
 template std::vector<AirPocket> find_air_pockets<2>(const VoidGrid<2>&, const std::vector<double>&);
 template std::vector<AirPocket> find_air_pockets<3>(const VoidGrid<3>&, const std::vector<double>&);

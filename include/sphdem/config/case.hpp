@@ -161,6 +161,7 @@ inline WallSlipLaw resolve_wall_slip(const WallConditionKeys& own, const WallCon
 struct Mold : WallConditionKeys {
   std::vector<Shape> shapes;  // the cavity is their union
   int wall_layers = 3;
+  std::vector<Shape> vents;  // where air leaves (output.front_events); empty: every wall
 };
 
 // Piecewise-linear velocity table; constant before the first and after the

@@ -47,11 +47,17 @@ struct VoidGrid {
 template <int D>
 VoidGrid<D> make_void_grid(const Box<D>& domain, double spacing);
 
-// Adds this rank's owned particles to marks (2 per cell: resin, wall): a
-// particle marks every cell whose centre is within one spacing of it.
-// Summed over ranks (exact: counts), the marks are the same at any rank count.
+// Adds this rank's owned particles to marks (3 per cell: resin, wall, vent):
+// a particle marks every cell whose centre is within one spacing of it; a
+// wall particle inside one of the vents (mold.vents; empty: every wall
+// particle) marks the vent slot too. Summed over ranks (exact: counts), the
+// marks are the same at any rank count. With vents, a cell whose centre is
+// outside the cavity (the union of `cavity`; e.g. inside an insert beyond
+// the wall layers, or behind a piston) marks the vent slot: not air of the
+// cavity, and open.
 template <int D>
 void mark_void_grid(const VoidGrid<D>& g, double spacing, const SphParticles<D>& ps,
+                    const std::vector<Shape>& cavity, const std::vector<Shape>& vents,
                     std::vector<double>& marks);
 
 struct AirPocket {
@@ -60,8 +66,9 @@ struct AirPocket {
 };
 
 // The connected empty regions (neither resin nor wall, face neighbours)
-// that touch no wall cell and not the grid's border: air closed in by
-// resin alone. In the order of their first cell (deterministic).
+// that touch no vent cell and not the grid's border: air closed in by resin,
+// or by resin and walls that do not vent. In the order of their first cell
+// (deterministic).
 template <int D>
 std::vector<AirPocket> find_air_pockets(const VoidGrid<D>& g, const std::vector<double>& marks);
 
