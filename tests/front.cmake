@@ -5,4 +5,4 @@
 # process).
 sphdem_test(test_front SOURCES test_front.cpp RANKS 1 2 LABELS validation TIMEOUT 600
             MULTI_RANK_TESTS "FrontEventsRanks.*"
-            ONE_RANK_TESTS "AntiClumpAtImpacts.*:WeldLines.*:TrappedAir.*:FrontEvents.*")
+            ONE_RANK_TESTS "AntiClumpAtImpacts.*:Cavitation.*:WeldLines.*:TrappedAir.*:FrontEvents.*")

@@ -249,6 +249,14 @@ TEST(RankIndependence, DamBreakAntiClumpFlag) {
       300, /*expect_migration=*/false);
 }
 
+// The same column with the resin's tension bounded (resin.tensile_strength 0:
+// the pressure floor at 0, docs/physics.md "Cavitation"), shifting off.
+TEST(RankIndependence, DamBreakCavitation) {
+  expect_rank_independent<2>(load("validation/dam_break_front.yaml",
+                                  {"numerics.particle_shifting=false", "resin.tensile_strength=0"}),
+                             300, /*expect_migration=*/false);
+}
+
 // Temperature (issue 13 part 2): conduction with walls held cold, the
 // dummy wall temperatures on ghosts, and frozen particles; viscous heating
 // reads the shear rate of ghosts.

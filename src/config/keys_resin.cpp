@@ -134,6 +134,15 @@ Section<Resin> make_resin() {
                             "zero (gauge -Pa), so a decelerating piston keeps its resin; see "
                             "`docs/physics.md` \"Ambient pressure\"")
                          .identity()),
+      unless_default(optional_number("tensile_strength", "Pa", non_negative_number(),
+                                     &Resin::tensile_strength,
+                                     "the most tension the resin holds: where its absolute "
+                                     "pressure would fall below minus this it cavitates (gauge "
+                                     "pressure floor -(Pa + this)), which keeps impacts and "
+                                     "splashes stable; 0: no tension at all; see "
+                                     "`docs/physics.md` \"Cavitation\"")
+                         .defaults_to("none (unbounded)")
+                         .identity()),
       unless_default(number("surface_tension", "N/m", non_negative_number(),
                             &Resin::surface_tension,
                             "surface tension sigma of the resin's free surface, a continuum "

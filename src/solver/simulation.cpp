@@ -147,7 +147,7 @@ void ResinModule<D>::rates() {
     ScopedPhase t(timers_, Phase::Halo);
     halo_.forward(ps_, SphGroup::State);
   }
-  compute_fluid_pressure<D>(eos_, ps_);
+  compute_fluid_pressure<D>(eos_, sp_.pressure_floor, ps_);
   const double time = ctx_.clock.time;
   std::vector<WallKinematics<D>> kin(walls_.size());
   for (std::size_t k = 0; k < walls_.size(); ++k) {

@@ -40,6 +40,8 @@ SphParams make_sph_params(const Case& c) {
   sp.mold_wall = resolve_wall_slip(c.mold, c.mold);
   sp.surface_tension = c.resin.surface_tension;
   sp.ambient_pressure = c.resin.ambient_pressure;
+  if (c.resin.tensile_strength)
+    sp.pressure_floor = 0.0 - (c.resin.ambient_pressure + *c.resin.tensile_strength);
   // A wall's own contact_angle, else the mold's, else 90 degrees.
   const auto angle = [&](const WallConditionKeys& w) {
     return w.contact_angle.value_or(c.mold.contact_angle.value_or(90.0));

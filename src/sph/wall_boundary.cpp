@@ -111,10 +111,13 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
 }
 
 template <int D>
-void compute_fluid_pressure(const TaitEos& eos, SphParticles<D>& ps) {
+void compute_fluid_pressure(const TaitEos& eos, double floor, SphParticles<D>& ps) {
   for (std::size_t i = 0; i < ps.size(); ++i) {
     if (ps.kind[i] == Kind::Fluid) {
-      ps.p[i] = eos.pressure(ps.rho[i]);
+      // Where the resin would pull harder than it can it opens instead: no
+      // more tension than the floor (no floor: -inf, the Tait value as is).
+      const double p = eos.pressure(ps.rho[i]);
+      ps.p[i] = p < floor ? floor : p;
       ps.vwall[i] = ps.v[i];  // resin neighbors are seen with their own velocity
     }
   }
@@ -130,7 +133,7 @@ template std::vector<WallFaceSample> compute_wall_state<3>(const SphParams&, con
                                                            const NeighborList<3>&,
                                                            const std::vector<WallKinematics<3>>&,
                                                            SphParticles<3>&);
-template void compute_fluid_pressure<2>(const TaitEos&, SphParticles<2>&);
-template void compute_fluid_pressure<3>(const TaitEos&, SphParticles<3>&);
+template void compute_fluid_pressure<2>(const TaitEos&, double, SphParticles<2>&);
+template void compute_fluid_pressure<3>(const TaitEos&, double, SphParticles<3>&);
 
 }  // namespace sphdem

@@ -67,6 +67,9 @@ struct Resin {
   double sound_speed = 0;                  // c0 [m/s], given or from mach * reference_velocity
   double gamma = 7.0;                      // Tait exponent
   double ambient_pressure = 0;             // [Pa] the air at the free surface (docs/physics.md)
+  // [Pa] the resin cavitates (opens) where its absolute pressure would fall
+  // below minus this; none: its pressure is not bounded below (docs/physics.md).
+  std::optional<double> tensile_strength;
   double surface_tension = 0;      // sigma [N/m], 0 = none (docs/physics.md "Surface tension")
   std::optional<Thermal> thermal;  // none: isothermal (docs/physics.md "Temperature")
 };

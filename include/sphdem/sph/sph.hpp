@@ -26,6 +26,8 @@ struct SphParams {
   // lowers the wall floors to absolute zero (docs/physics.md "Ambient
   // pressure").
   double ambient_pressure = 0;
+  // The resin's least gauge pressure, -(Pa + resin.tensile_strength); -inf: none.
+  double pressure_floor = -std::numeric_limits<double>::infinity();
   double mu = 0;  // laminar viscosity (0: none); a law: the largest it reaches
   // A generalized-Newtonian law (variable viscosity, per particle): the
   // law, and the melt temperature it reads until the resin has its own
@@ -87,9 +89,10 @@ bool any_slip_wall(const Case& c);
 double gradient_lattice_correction(int dimension, double h_over_spacing);
 double viscous_lattice_correction(int dimension, double h_over_spacing);
 
-// Pressure of every fluid particle, ghosts included, from its density.
+// Pressure of every fluid particle, ghosts included, from its density, and
+// not below floor (SphParams::pressure_floor: the resin cavitates there).
 template <int D>
-void compute_fluid_pressure(const TaitEos& eos, SphParticles<D>& ps);
+void compute_fluid_pressure(const TaitEos& eos, double floor, SphParticles<D>& ps);
 
 // The extrapolated pressure of one owned wall particle that touches resin
 // and belongs to a listed (moving or sliding) wall. The solver averages
