@@ -80,13 +80,20 @@ TEST(AntiClumpAtImpacts, NoTensionBranchAtSurfaceParticles) {
   EXPECT_DOUBLE_EQ(r[1], r[0]);
 }
 
-// Whether the dam break of inputs/validation/dam_break.yaml at artificial
-// viscosity 0.02, shifting off, reaches t_end; the time it stopped at.
-double dam_break_reaches(double t_end, bool at_surface) {
-  const Case c = testing::load_input(
-      "validation/dam_break.yaml",
-      {"numerics.artificial_viscosity=0.02", "numerics.particle_shifting=false",
-       std::string("numerics.anti_clump_at_surface=") + (at_surface ? "true" : "false")});
+// The dam break of inputs/validation/dam_break.yaml at artificial
+// viscosity 0.02 without particle shifting, with the given keys (the resin's
+// tension bounded by a floor, the anti-clump term's form): its state at
+// t_end, or where it stopped.
+struct DamBreakEnd {
+  double t = 0, min_rho = 1e300, max_rho = 0, max_speed = 0;
+  bool inside = true;  // every resin particle inside the box
+};
+
+DamBreakEnd dam_break_end(double t_end, const std::vector<std::string>& sets) {
+  std::vector<std::string> all = {"numerics.artificial_viscosity=0.02",
+                                  "numerics.particle_shifting=false"};
+  all.insert(all.end(), sets.begin(), sets.end());
+  const Case c = testing::load_input("validation/dam_break.yaml", all);
   const Comm self(MPI_COMM_SELF);
   Simulation<2> sim(c, self, quiet());
   try {
@@ -94,7 +101,28 @@ double dam_break_reaches(double t_end, bool at_surface) {
   } catch (const SimulationError& e) {
     std::printf("[          ] failed: %s\n", e.what());
   }
-  return sim.time();
+  DamBreakEnd r;
+  r.t = sim.time();
+  const SphParticles<2>& ps = sim.particles();
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    if (ps.kind[i] != Kind::Fluid) continue;
+    r.min_rho = std::min(r.min_rho, ps.rho[i]);
+    r.max_rho = std::max(r.max_rho, ps.rho[i]);
+    r.max_speed = std::max(r.max_speed, ps.v[i].norm());
+    const bool in = ps.x[i][0] > 0 && ps.x[i][0] < 0.1 && ps.x[i][1] > 0 && ps.x[i][1] < 0.06;
+    r.inside = r.inside && in;
+  }
+  std::printf("[          ] reached t = %.4f s: density %.1f-%.1f, fastest %.2f m/s%s\n", r.t,
+              r.min_rho, r.max_rho, r.max_speed, r.inside ? "" : ", resin outside the box");
+  return r;
+}
+
+// Whether that dam break reaches t_end with the anti-clump term's published
+// form (at_surface) or without its tension at the surface; the time it stopped at.
+double dam_break_reaches(double t_end, bool at_surface) {
+  return dam_break_end(t_end, {std::string("numerics.anti_clump_at_surface=") +
+                               (at_surface ? "true" : "false")})
+      .t;
 }
 
 // The published form blows up at t = 0.123 s (a particle leaves through
@@ -140,42 +168,6 @@ TEST(Cavitation, ThePressureStopsAtTheFloor) {
   compute_fluid_pressure<2>(eos, off.pressure_floor, ps);
   EXPECT_NEAR(ps.p[0], -4309.5, 0.1);
   EXPECT_EQ(ps.p[0], eos.pressure(950));
-}
-
-// The dam break of inputs/validation/dam_break.yaml at artificial
-// viscosity 0.02 without particle shifting, with the resin's tension
-// bounded by a floor: its state at t_end, or where it stopped.
-struct DamBreakEnd {
-  double t = 0, min_rho = 1e300, max_rho = 0, max_speed = 0;
-  bool inside = true;  // every resin particle inside the box
-};
-
-DamBreakEnd dam_break_end(double t_end, const std::vector<std::string>& sets) {
-  std::vector<std::string> all = {"numerics.artificial_viscosity=0.02",
-                                  "numerics.particle_shifting=false"};
-  all.insert(all.end(), sets.begin(), sets.end());
-  const Case c = testing::load_input("validation/dam_break.yaml", all);
-  const Comm self(MPI_COMM_SELF);
-  Simulation<2> sim(c, self, quiet());
-  try {
-    testing::run_until(sim, t_end);
-  } catch (const SimulationError& e) {
-    std::printf("[          ] failed: %s\n", e.what());
-  }
-  DamBreakEnd r;
-  r.t = sim.time();
-  const SphParticles<2>& ps = sim.particles();
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    if (ps.kind[i] != Kind::Fluid) continue;
-    r.min_rho = std::min(r.min_rho, ps.rho[i]);
-    r.max_rho = std::max(r.max_rho, ps.rho[i]);
-    r.max_speed = std::max(r.max_speed, ps.v[i].norm());
-    const bool in = ps.x[i][0] > 0 && ps.x[i][0] < 0.1 && ps.x[i][1] > 0 && ps.x[i][1] < 0.06;
-    r.inside = r.inside && in;
-  }
-  std::printf("[          ] reached t = %.4f s: density %.1f-%.1f, fastest %.2f m/s%s\n", r.t,
-              r.min_rho, r.max_rho, r.max_speed, r.inside ? "" : ", resin outside the box");
-  return r;
 }
 
 // Without a floor the run stops at 0.363 s (the splash's pile in the far
