@@ -18,25 +18,25 @@ namespace sphdem {
 
 namespace {
 
+// A candidate within the support: its index and distance (the candidates
+// are listed by gid already, so no id is carried).
 struct Near {
-  std::int64_t gid;
   std::int32_t index;
   double r;
-  bool operator<(const Near& o) const { return gid < o.gid; }
 };
 
 // The candidates [begin, end) of `items` (indices into `x`, by gid) within
 // `support` of p, in the same order.
-template <int D, class GidOf>
+template <int D>
 void near_in_list(const std::vector<std::int32_t>& items, std::int32_t begin, std::int32_t end,
-                  const std::vector<Vec<D>>& x, const Vec<D>& p, double support, GidOf gid_of,
+                  const std::vector<Vec<D>>& x, const Vec<D>& p, double support,
                   std::vector<Near>& out) {
   out.clear();
   const double support2 = support * support;
   for (std::int32_t k = begin; k < end; ++k) {
     const std::int32_t j = items[static_cast<std::size_t>(k)];
     const double r2 = (p - x[static_cast<std::size_t>(j)]).squaredNorm();
-    if (r2 < support2) out.push_back({gid_of(j), j, std::sqrt(r2)});
+    if (r2 < support2) out.push_back({j, std::sqrt(r2)});
   }
 }
 
@@ -106,13 +106,11 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
                            st.generation);
   const CouplingPairs<D>& pairs = st.pairs;
   std::vector<Near> near, near_dem;
-  const auto resin_gid = [&](std::int32_t j) { return sph.gid[static_cast<std::size_t>(j)]; };
-  const auto dem_gid = [&](std::int32_t j) { return dem.gid[static_cast<std::size_t>(j)]; };
 
   for (std::size_t f = 0; f < dem.n_owned; ++f) {
     double phi = 0;
     near_in_list<D>(pairs.dem_items, pairs.dem_start[f], pairs.dem_start[f + 1], dem.x, dem.x[f],
-                    support, dem_gid, near_dem);
+                    support, near_dem);
     for (const Near& n : near_dem) {
       phi +=
           terms::solid_fraction<D>(kernel, dem_volume(dem, static_cast<std::size_t>(n.index)), n.r);
@@ -123,7 +121,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
     double mu_sum = 0.0;  // sum_r V_r W_fr mu_r, a viscosity law's local viscosity
     double sum_t = 0.0;   // sum_r V_r W_fr T_r, the resin temperature's Shepard numerator
     near_in_list<D>(pairs.resin_items, pairs.resin_start[f], pairs.resin_start[f + 1], sph.x,
-                    dem.x[f], support, resin_gid, near);
+                    dem.x[f], support, near);
     for (const Near& n : near) {
       const auto r = static_cast<std::size_t>(n.index);
       const double vol_r = sph.mass[r] / sph.rho[r], w = kernel.w(n.r);

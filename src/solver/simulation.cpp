@@ -253,6 +253,14 @@ void ResinModule<D>::predict(double dt) {
       ps_.temperature[i] = ps_.temp_half[i] + half * ps_.dtemp[i];
     }
   }
+  const double time = ctx_.clock.time;
+  std::vector<Vec<D>> disp(walls_.size());
+  for (std::size_t k = 0; k < walls_.size(); ++k) {
+    disp[k] =
+        walls_[k].moves ? Vec<D>(dt * to_vec<D>(walls_[k].velocity(time + half))) : Vec<D>::Zero();
+  }
+  // One pass over the particles, resin and walls (each particle's update
+  // reads only its own fields).
   for (std::size_t i = 0; i < ps_.n_owned; ++i) {
     if (ps_.kind[i] == Kind::Fluid) {
       ps_.v_half[i] = ps_.v[i] + half * ps_.a[i];
@@ -261,17 +269,9 @@ void ResinModule<D>::predict(double dt) {
       ps_.x[i] += dt * ps_.v_half[i];
       ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
       ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
-    }
-  }
-  const double time = ctx_.clock.time;
-  std::vector<Vec<D>> disp(walls_.size());
-  for (std::size_t k = 0; k < walls_.size(); ++k) {
-    disp[k] =
-        walls_[k].moves ? Vec<D>(dt * to_vec<D>(walls_[k].velocity(time + half))) : Vec<D>::Zero();
-  }
-  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
-    if (ps_.kind[i] == Kind::Wall && ps_.wall[i] >= 0)
+    } else if (ps_.kind[i] == Kind::Wall && ps_.wall[i] >= 0) {
       ps_.x[i] += disp[static_cast<std::size_t>(ps_.wall[i])];
+    }
   }
 }
 
@@ -287,20 +287,25 @@ bool ResinModule<D>::moved() {
 template <int D>
 void ResinModule<D>::correct(double dt) {
   const double half = 0.5 * dt;
+  const auto density_kick = [&](std::size_t i) {
+    ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
+    if (sp_.thermal) ps_.temperature[i] = ps_.temp_half[i] + half * ps_.dtemp[i];
+  };
+  // Without a solve between them, the two kicks in one pass.
+  const bool solve = sp_.implicit_viscosity;
   for (std::size_t i = 0; i < ps_.n_owned; ++i) {
     if (ps_.kind[i] == Kind::Fluid) {
       if (ps_.is_frozen(i)) ps_.a[i].setZero();
       ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
+      if (!solve) density_kick(i);
     }
   }
   // Before the density kick: the solve reads the densities of the rates,
   // which the ghosts hold too (rank-count independence).
-  if (sp_.implicit_viscosity) solve_viscosity(dt);
-  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
-    if (ps_.kind[i] == Kind::Fluid) {
-      ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
-      if (sp_.thermal) ps_.temperature[i] = ps_.temp_half[i] + half * ps_.dtemp[i];
-    }
+  if (solve) {
+    solve_viscosity(dt);
+    for (std::size_t i = 0; i < ps_.n_owned; ++i)
+      if (ps_.kind[i] == Kind::Fluid) density_kick(i);
   }
   // The density kick read the velocities before the solve; the particles
   // drift with the solve's (docs/physics.md "Implicit viscosity", the density).

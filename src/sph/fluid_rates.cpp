@@ -34,6 +34,56 @@ void run_fluid_passes(const SphParams& sp, const NeighborList<D>& nl, SphParticl
     terms::compute_particle_viscosity(sp, ps);
 }
 
+// The owned resin particles whose record is in `refill` or whose list holds
+// one of `refill` (sorted by index): what the second run of the loop
+// computes again. Lists are symmetric (a pair is listed by both sides when
+// both have lists: the same cell test and the same distance, whose square is
+// the same bits either way round) and only resin particles are flagged, so
+// an owned flagged particle's own list names the owned resin particles that
+// list it: no walk of every list (that walk was 4-5 % of the plate's run).
+// A flagged ghost has no list: the particles listing it are found by
+// walking only the lists that hold a ghost.
+template <int D>
+void particles_near_flags(const NeighborList<D>& nl, const SphParticles<D>& ps,
+                          const std::vector<std::uint32_t>& refill,
+                          std::vector<std::uint32_t>& redo) {
+  const std::size_t n_owned = ps.n_owned;
+  thread_local std::vector<std::uint8_t> mark;
+  mark.assign(n_owned, 0);
+  const std::int32_t* nb = nl.indices();
+  const auto mark_resin = [&](std::size_t i) {
+    if (ps.kind[i] == Kind::Fluid) mark[i] = 1;
+  };
+  bool flagged_ghost = false;
+  for (const std::uint32_t j : refill) {
+    if (j >= n_owned) {
+      flagged_ghost = true;
+      continue;
+    }
+    mark_resin(j);
+    for (std::size_t b = nl.begin(j), e = nl.end(j); b < e; ++b) {
+      const auto k = static_cast<std::size_t>(nb[b]);
+      if (k < n_owned) mark_resin(k);
+    }
+  }
+  if (flagged_ghost) {
+    const std::vector<double>& flag = terms::FreeSurfacePass::output(ps);
+    for (std::size_t i = 0; i < n_owned; ++i) {
+      if (mark[i] || ps.kind[i] != Kind::Fluid) continue;
+      const std::size_t b0 = nl.begin(i), e = nl.end(i);
+      std::int32_t last = -1;  // the largest index listed: a ghost when >= n_owned
+      for (std::size_t b = b0; b < e; ++b) last = std::max(last, nb[b]);
+      if (last < 0 || static_cast<std::size_t>(last) < n_owned) continue;
+      for (std::size_t b = b0; b < e && !mark[i]; ++b) {
+        const auto k = static_cast<std::size_t>(nb[b]);
+        if (k >= n_owned && flag[k] != 0.0) mark[i] = 1;
+      }
+    }
+  }
+  for (std::size_t i = 0; i < n_owned; ++i)
+    if (mark[i]) redo.push_back(static_cast<std::uint32_t>(i));
+}
+
 // The pair loop with the free-surface flag computed on the side
 // (docs/performance.md, "The free-surface flag inside the pair loop"). The
 // records read the flag (anti-clump's R_a is 0 where it is 1), so the loop
@@ -61,14 +111,7 @@ void pair_loop_with_flag(const SphParams& sp, const NeighborList<D>& nl, SphPart
   for (std::size_t j = 0; j < ps.size(); ++j)
     if (flag[j] != 0.0) refill.push_back(static_cast<std::uint32_t>(j));
   if (refill.empty()) return;
-  const std::int32_t* nb = nl.indices();
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    if (ps.kind[i] != Kind::Fluid) continue;
-    bool changed = flag[i] != 0.0;
-    for (std::size_t b = nl.begin(i), e = nl.end(i); b < e && !changed; ++b)
-      changed = flag[static_cast<std::size_t>(nb[b])] != 0.0;
-    if (changed) redo.push_back(static_cast<std::uint32_t>(i));
-  }
+  particles_near_flags<D>(nl, ps, refill, redo);
   run.side = false;
   run.redo = &redo;
   run.refill = &refill;
