@@ -45,7 +45,7 @@ void run_fluid_passes(const SphParams& sp, const NeighborList<D>& nl, SphParticl
 // walking only the lists that hold a ghost.
 template <int D>
 void particles_near_flags(const NeighborList<D>& nl, const SphParticles<D>& ps,
-                          const std::vector<std::uint32_t>& refill,
+                          const std::vector<double>& flag, const std::vector<std::uint32_t>& refill,
                           std::vector<std::uint32_t>& redo) {
   const std::size_t n_owned = ps.n_owned;
   thread_local std::vector<std::uint8_t> mark;
@@ -67,7 +67,6 @@ void particles_near_flags(const NeighborList<D>& nl, const SphParticles<D>& ps,
     }
   }
   if (flagged_ghost) {
-    const std::vector<double>& flag = terms::FreeSurfacePass::output(ps);
     for (std::size_t i = 0; i < n_owned; ++i) {
       if (mark[i] || ps.kind[i] != Kind::Fluid) continue;
       const std::size_t b0 = nl.begin(i), e = nl.end(i);
@@ -111,7 +110,7 @@ void pair_loop_with_flag(const SphParams& sp, const NeighborList<D>& nl, SphPart
   for (std::size_t j = 0; j < ps.size(); ++j)
     if (flag[j] != 0.0) refill.push_back(static_cast<std::uint32_t>(j));
   if (refill.empty()) return;
-  particles_near_flags<D>(nl, ps, refill, redo);
+  particles_near_flags<D>(nl, ps, flag, refill, redo);
   run.side = false;
   run.redo = &redo;
   run.refill = &refill;
