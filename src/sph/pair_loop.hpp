@@ -376,8 +376,6 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
     const std::int32_t* nb = nl.indices();
     constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
-    constexpr std::size_t kBlock = 4;  // step 2's pairs are a whole number of these
-    static_assert(kChunk % kBlock == 0 && kBlock % 4 == 0);
     alignas(64) double lanes[Lanes::kSize * kChunk];
     alignas(64) double acc_lane[D][kChunk];                             // per-pair acceleration
     alignas(64) double drho_lane[kChunk];                               // per-pair density rate
@@ -406,29 +404,23 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
       for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
         const std::size_t cnt = std::min(kChunk, e - b);
 
-        // Step 2 runs a multiple of 4 pairs: GCC's 8-wide body and 4-wide
-        // remainder, no scalar one (whose square roots and divisions cost
-        // more than the padding; 8 was slower, docs/performance.md "The
-        // gather as a transpose"). The pairs from cnt on repeat the chunk's
-        // last neighbour; the sums leave them out.
-        const std::size_t padded = (cnt + kBlock - 1) / kBlock * kBlock;
-
-        // 1. Gather: four neighbours at a time where AVX is there.
+        // 1. Gather: four neighbours at a time where AVX is there (the last
+        // block repeats the chunk's last neighbour; step 2 reads k < cnt).
         using Gather = GatherLanes<D, typename N::LaneFields>;
         if constexpr (kGatherFour) {
-          for (std::size_t k = 0; k < padded; k += 4) {
+          for (std::size_t k = 0; k < cnt; k += 4) {
             const double* const r[4] = {rec[nb[b + k]].v, rec[nb[b + std::min(k + 1, cnt - 1)]].v,
                                         rec[nb[b + std::min(k + 2, cnt - 1)]].v,
                                         rec[nb[b + std::min(k + 3, cnt - 1)]].v};
             Gather::template four_pairs<Lanes, Record>(own, r, k, lanes);
           }
         } else {
-          for (std::size_t k = 0; k < padded; ++k)
-            Gather::template run<Lanes, Record>(own, rec[nb[b + std::min(k, cnt - 1)]], k, lanes);
+          for (std::size_t k = 0; k < cnt; ++k)
+            Gather::template run<Lanes, Record>(own, rec[nb[b + k]], k, lanes);
         }
 
         // 2. Pair terms, branch-free (vectorized).
-        for (std::size_t k = 0; k < padded; ++k) {
+        for (std::size_t k = 0; k < cnt; ++k) {
           double r2 = 0.0;
           for (int d = 0; d < D; ++d) {
             const double x = lanes[(kPos + d) * kChunk + k];
