@@ -4,6 +4,8 @@ sphdem_test(test_geometry SOURCES test_geometry.cpp RANKS 1 LABELS unit)
 sphdem_test(test_sph_terms SOURCES test_sph_terms.cpp RANKS 1 LABELS unit)
 # The term registry: selection, record layout, the generated loop against the formulas.
 sphdem_test(test_sph_term_registry SOURCES test_sph_term_registry.cpp RANKS 1 LABELS unit)
+# The pair loop's gather: four neighbours at a time bitwise one at a time.
+sphdem_test(test_lane_gather SOURCES test_lane_gather.cpp RANKS 1 LABELS unit)
 # The shear-rate pass: exact for linear velocity fields on the lattice.
 sphdem_test(test_shear_rate SOURCES test_shear_rate.cpp RANKS 1 LABELS unit)
 # Temperature: pairwise conduction by hand and its energy conservation.

@@ -30,6 +30,7 @@
 #include <utility>
 #include <vector>
 
+#include "lane_gather.hpp"
 #include "record_fields.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
 
@@ -301,30 +302,6 @@ struct FillRecord<D, Fields<Fs...>> {
   }
 };
 
-template <int D, class Fs>
-struct GatherLanes;
-template <int D, class... Fs>
-struct GatherLanes<D, Fields<Fs...>> {
-  // rj is an array element, not a computed pointer: GCC then vectorizes
-  // the gather over k (AVX-512 gathers).
-  template <class Lanes, class Record, class R>
-  static void run(const double* own, const R& rj, std::size_t k, double* lanes) {
-    (one<Lanes, Record, Fs>(own, rj, k, lanes), ...);
-  }
-  template <class Lanes, class Record, class F, class R>
-  static void one(const double* own, const R& rj, std::size_t k, double* lanes) {
-    constexpr std::size_t lo = Lanes::template offset<F>(), ro = Record::template offset<F>();
-    for (std::size_t c = 0; c < width_v<F, D>; ++c) {
-      if constexpr (std::is_void_v<typename F::RelativeTo>) {
-        lanes[(lo + c) * kChunk + k] = rj.v[ro + c];
-      } else {
-        constexpr std::size_t so = Record::template offset<typename F::RelativeTo>();
-        lanes[(lo + c) * kChunk + k] = own[so + c] - rj.v[ro + c];
-      }
-    }
-  }
-};
-
 // The owned resin particles with some neighbour closer than sqrt(within2)
 // (resin or wall), in index order: the pair loop finds them from the r^2 it
 // computes anyway, so the wall repulsion (wall_repulsion.cpp) walks only
@@ -371,7 +348,9 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   thread_local std::vector<PackedRecord<kStride>> records;
   const std::size_t n = ps.size();
   if (run.redo == nullptr) {
-    resize_field(records, n);  // a small margin, not a doubling
+    // A small margin, not a doubling; with an odd record size one double
+    // more, which the gather by pairs of doubles reads (lane_gather.hpp).
+    resize_field(records, n + kStride % 2);
     PackedRecord<kStride>* rec = records.data();
     for (std::size_t i = 0; i < n; ++i)
       FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
@@ -425,10 +404,20 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
       for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
         const std::size_t cnt = std::min(kChunk, e - b);
 
-        // 1. Gather.
-        for (std::size_t k = 0; k < cnt; ++k)
-          GatherLanes<D, typename N::LaneFields>::template run<Lanes, Record>(own, rec[nb[b + k]],
-                                                                              k, lanes);
+        // 1. Gather: four neighbours at a time where AVX is there (the last
+        // block repeats the chunk's last neighbour; step 2 reads k < cnt).
+        using Gather = GatherLanes<D, typename N::LaneFields>;
+        if constexpr (kGatherFour) {
+          for (std::size_t k = 0; k < cnt; k += 4) {
+            const double* const r[4] = {rec[nb[b + k]].v, rec[nb[b + std::min(k + 1, cnt - 1)]].v,
+                                        rec[nb[b + std::min(k + 2, cnt - 1)]].v,
+                                        rec[nb[b + std::min(k + 3, cnt - 1)]].v};
+            Gather::template four_pairs<Lanes, Record>(own, r, k, lanes);
+          }
+        } else {
+          for (std::size_t k = 0; k < cnt; ++k)
+            Gather::template run<Lanes, Record>(own, rec[nb[b + k]], k, lanes);
+        }
 
         // 2. Pair terms, branch-free (vectorized).
         for (std::size_t k = 0; k < cnt; ++k) {
