@@ -61,10 +61,10 @@ void pair_loop_with_flag(const SphParams& sp, const NeighborList<D>& nl, SphPart
   for (std::size_t j = 0; j < ps.size(); ++j)
     if (flag[j] != 0.0) refill.push_back(static_cast<std::uint32_t>(j));
   if (refill.empty()) return;
-  const std::int32_t* nb = nl.indices();
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid) continue;
     bool changed = flag[i] != 0.0;
+    const NeighborRow nb = nl.row(i);
     for (std::size_t b = nl.begin(i), e = nl.end(i); b < e && !changed; ++b)
       changed = flag[static_cast<std::size_t>(nb[b])] != 0.0;
     if (changed) redo.push_back(static_cast<std::uint32_t>(i));

@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "record_fields.hpp"
+#include "sphdem/core/scratch.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
 
 namespace sphdem::terms {
@@ -368,18 +369,17 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
 
   // 0. The records (every particle, ghosts included); a second run (redo)
   // fills only those whose inputs changed.
-  thread_local std::vector<PackedRecord<kStride>> records;
+  // They live in the scratch the list build shares (sphdem/core/scratch.hpp).
   const std::size_t n = ps.size();
+  PackedRecord<kStride>* rec =
+      reinterpret_cast<PackedRecord<kStride>*>(shared_scratch(n * kStride));
   if (run.redo == nullptr) {
-    resize_field(records, n);  // a small margin, not a doubling
-    PackedRecord<kStride>* rec = records.data();
     for (std::size_t i = 0; i < n; ++i)
       FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
   } else {
     for (const std::uint32_t j : *run.refill)
-      FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, j, records[j].v);
+      FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, j, rec[j].v);
   }
-  PackedRecord<kStride>* rec = records.data();
 
   [&]<class... S>(TermList<S...>) {
     const std::tuple<typename S::Term...> terms{make_term<typename S::Term>(ctx)...};
@@ -395,7 +395,6 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     const std::size_t count = run.redo != nullptr ? run.redo->size() : ps.n_owned;
     Vec<D> g;
     for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
-    const std::int32_t* nb = nl.indices();
     constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
     alignas(64) double lanes[Lanes::kSize * kChunk];
     alignas(64) double acc_lane[D][kChunk];                             // per-pair acceleration
@@ -422,6 +421,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
           side_i = side_i && Side::template wanted<D>(sp, ps, i);
       }
       int near = 0;  // some neighbour within close2
+      const NeighborRow nb = nl.row(i);
       for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
         const std::size_t cnt = std::min(kChunk, e - b);
 
