@@ -145,12 +145,9 @@ InitialCounts fill_distributed(const Case& c, Decomposition<D>& dec, SphParticle
     own_fluid += static_cast<std::size_t>(mine[k * kRecordWidth + 5]);
     own_wall += static_cast<std::size_t>(mine[k * kRecordWidth + 6]);
   }
-  // This rank's share and resize_field's margin: the first rebuild's ghost
-  // append then fits instead of moving every field (a whole copy of the
-  // fields at once; the margin's pages are never touched unless used).
-  out.for_each_field([n = own_fluid + own_wall](const char*, auto& field, FieldPolicy) {
-    field.reserve(n + n / 16 + 64);
-  });
+  // Exactly this rank's share: no growth slack.
+  out.for_each_field(
+      [n = own_fluid + own_wall](const char*, auto& field, FieldPolicy) { field.reserve(n); });
 
   std::vector<std::size_t> fill_of;
   fill_of.reserve(own_fluid);
