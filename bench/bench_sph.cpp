@@ -13,6 +13,7 @@
 #include <mpi.h>
 
 #include <fmt/format.h>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -101,10 +102,13 @@ int main(int argc, char** argv) {
         std::printf("loop:  %.3f s  %.3f M particle-steps/s\n", loop, n * steps / loop / 1e6);
         std::printf("whole: %.3f s  %.3f M particle-steps/s\n", whole, n * steps / whole / 1e6);
         // What the memory per particle is made of (docs/performance.md).
-        std::printf("lists: %.2f pairs per particle (rank 0), %lld rebuilds\n",
-                    static_cast<double>(sim.resin()->neighbor_pairs()) /
-                        static_cast<double>(sim.particles().n_owned),
-                    static_cast<long long>(sim.resin()->neighbor_builds()));
+        std::printf(
+            "lists: %.2f pairs per particle (rank 0), %.2f %% of them 32-bit, %lld rebuilds\n",
+            static_cast<double>(sim.resin()->neighbor_pairs()) /
+                static_cast<double>(sim.particles().n_owned),
+            100.0 * static_cast<double>(sim.resin()->neighbor_wide_pairs()) /
+                static_cast<double>(std::max<std::size_t>(1, sim.resin()->neighbor_pairs())),
+            static_cast<long long>(sim.resin()->neighbor_builds()));
       }
     }
   }

@@ -209,16 +209,15 @@ TEST(ViscousOperator, SymmetricAndNegativeSemiDefinite) {
   nl.build(ps);
   ViscousOperator<2> op;
   op.build(sp, nl, ps);
-  const std::int32_t* nb = nl.indices();
   int pairs = 0;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid) continue;
     for (std::size_t n = nl.begin(i); n < nl.end(i); ++n) {
-      const auto j = static_cast<std::size_t>(nb[n]);
+      const auto j = static_cast<std::size_t>(nl.row(i)[n]);
       EXPECT_LE(op.coeff[n], 0.0);
       if (ps.kind[j] != Kind::Fluid) continue;
       std::size_t back = nl.begin(j);
-      while (back < nl.end(j) && static_cast<std::size_t>(nb[back]) != i) ++back;
+      while (back < nl.end(j) && static_cast<std::size_t>(nl.row(j)[back]) != i) ++back;
       ASSERT_LT(back, nl.end(j));
       const double kij = ps.mass[i] * op.coeff[n], kji = ps.mass[j] * op.coeff[back];
       EXPECT_NEAR(kij, kji, 1e-13 * std::abs(kij));

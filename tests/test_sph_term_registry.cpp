@@ -200,7 +200,7 @@ void direct_rates(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D
     if (ps.kind[i] != Kind::Fluid) continue;
     const double por2_i = terms::pressure_over_rho2(ps.p[i], ps.rho[i]);
     for (std::size_t b = nl.begin(i); b < nl.end(i); ++b) {
-      const auto j = static_cast<std::size_t>(nl.indices()[b]);
+      const auto j = static_cast<std::size_t>(nl.row(i)[b]);
       const Vec<D> x = ps.x[i] - ps.x[j];
       const double r2 = x.squaredNorm(), r = std::sqrt(r2);
       const double F = kernel.f(r) * sp.grad_scale;
@@ -329,7 +329,7 @@ TEST(SphPairLoop, ATermOutsideTheLibraryJoinsThroughTheListAlone) {
     double drho = 0.0;
     Vec<2> a = to_vec<2>(sp.body_force);
     for (std::size_t b = nl.begin(i); b < nl.end(i); ++b) {
-      const auto j = static_cast<std::size_t>(nl.indices()[b]);
+      const auto j = static_cast<std::size_t>(nl.row(i)[b]);
       const Vec<2> x = ps.x[i] - ps.x[j];
       const double F = kernel.f(x.norm()) * sp.grad_scale;
       drho += ps.mass[j] * F * (ps.v[i] - ps.v[j]).dot(x);
@@ -391,7 +391,7 @@ void expect_repulsion_from_close_particles(std::uint32_t seed) {
     ++resin_count;
     bool wall_close = false;
     for (std::size_t b = nl.begin(i); b < nl.end(i); ++b) {
-      const auto j = static_cast<std::size_t>(nl.indices()[b]);
+      const auto j = static_cast<std::size_t>(nl.row(i)[b]);
       wall_close = wall_close || (ps.kind[j] == Kind::Wall && (ps.x[i] - ps.x[j]).norm() < r0);
     }
     const bool found =
@@ -488,7 +488,7 @@ TEST(SphPasses, APassRunsBeforeTheLoopWhenAnActiveTermReadsIt) {
     ASSERT_EQ(ps.shear_rate[i], 10.0 * count[i]) << "particle " << i;
     double drho = 0.0, sum = 0.0;
     for (std::size_t b = nl.begin(i); b < nl.end(i); ++b) {
-      const auto j = static_cast<std::size_t>(nl.indices()[b]);
+      const auto j = static_cast<std::size_t>(nl.row(i)[b]);
       const Vec<2> x = ps.x[i] - ps.x[j];
       drho +=
           ps.mass[j] * WendlandC2<2>(sp.h).f(x.norm()) * sp.grad_scale * (ps.v[i] - ps.v[j]).dot(x);

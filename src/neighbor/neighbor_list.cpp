@@ -5,6 +5,7 @@
 #include <span>
 #include <stdexcept>
 
+#include "sphdem/core/scratch.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
 
 namespace sphdem {
@@ -53,11 +54,10 @@ Grid<D> make_grid(const std::vector<Vec<D>>& x, std::size_t count, double cell) 
 // One int32 scratch array shared by the binning of the list build and the
 // sort by cell (never live at once), kept across rebuilds (no fresh pages
 // at every rebuild): 8 bytes per particle where the two held 24
-// (docs/performance.md, "Memory per particle").
+// (docs/performance.md, "Memory per particle"). It lives in the pair loop's
+// record buffer, unused during a rebuild ("16-bit neighbour lists").
 std::int32_t* int_scratch(std::size_t n) {
-  thread_local std::vector<std::int32_t> scratch;
-  resize_field(scratch, n);
-  return scratch.data();
+  return reinterpret_cast<std::int32_t*>(shared_scratch((n + 1) / 2));
 }
 
 // Counting sort of the first `count` particles into cells: items[start[c]
@@ -101,6 +101,11 @@ void bin_resin_first(const Grid<D>& g, const SphParticles<D>& ps, std::vector<st
     if (ps.kind[i] == Kind::Wall) items[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
 }
 
+// An offset a 16-bit list holds (kWideRow, -32768, marks a wide list).
+bool fits_16(std::int32_t offset) {
+  return offset >= -32767 && offset <= 32767;
+}
+
 }  // namespace
 
 template <int D>
@@ -121,9 +126,20 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
     std::int32_t index;
   };
   thread_local std::vector<IdIndex> keyed;
+  // The storage of the last build to start with (3D lists rarely fit 16
+  // bits: no 16-bit array and its conversion at every build there).
+  const bool wide_first = all_wide_;
   offset_.assign(n_own + 1, 0);
-  index_.clear();
-  index_.reserve(n_own * (D == 2 ? 24 : 60));
+  narrow_.clear();
+  wide_.clear();
+  wide_rows_.clear();
+  wide_starts_.clear();
+  const std::size_t expected = n_own * (D == 2 ? 24 : 60);
+  if (wide_first)
+    wide_.reserve(expected);
+  else
+    narrow_.reserve(expected);
+  std::size_t pairs = 0, far_pairs = 0;  // far: in lists with an offset beyond 16 bits
   for (std::size_t i = 0; i < n_own; ++i) {
     const Vec<D>& xi = ps.x[i];
     const bool wall_i = ps.kind[i] == Kind::Wall;
@@ -133,7 +149,9 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
       lo[k] = std::max(0L, c[k] - kReach);
       hi[k] = std::min(g.n[k] - 1, c[k] + kReach);
     }
-    const std::size_t first = index_.size();
+    // The ids sit beside the indices while sorting (no gather of ps.gid
+    // per comparison: 3D lists are about 80 long).
+    keyed.clear();
     for (long cz = lo[2]; cz <= hi[2]; ++cz)
       for (long cy = lo[1]; cy <= hi[1]; ++cy)
         for (long cx = lo[0]; cx <= hi[0]; ++cx) {
@@ -143,29 +161,88 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
           for (std::int32_t s = cell_start_[cell]; s < last; ++s) {
             const std::int32_t j = cell_items[s];
             if (static_cast<std::size_t>(j) == i) continue;
-            if ((xi - ps.x[j]).squaredNorm() < rc2) index_.push_back(j);
+            if ((xi - ps.x[j]).squaredNorm() < rc2) keyed.push_back({ps.gid[j], j});
           }
         }
     // Two periodic images of one particle share a gid (a period shorter
     // than two cut-offs): their position breaks the tie, so the order never
     // depends on where the images sit in memory.
-    // The ids sit beside the indices while sorting (no gather of ps.gid
-    // per comparison: 3D lists are about 80 long).
-    keyed.clear();
-    for (std::size_t k = first; k < index_.size(); ++k)
-      keyed.push_back({ps.gid[index_[k]], index_[k]});
     std::sort(keyed.begin(), keyed.end(), [&](const IdIndex& a, const IdIndex& b) {
       if (a.id != b.id) return a.id < b.id;
       return std::lexicographical_compare(ps.x[a.index].begin(), ps.x[a.index].end(),
                                           ps.x[b.index].begin(), ps.x[b.index].end());
     });
-    for (std::size_t k = first; k < index_.size(); ++k) index_[k] = keyed[k - first].index;
-    if (index_.size() > std::numeric_limits<std::uint32_t>::max())
+    const auto own = static_cast<std::int32_t>(i);
+    const bool fits = std::all_of(keyed.begin(), keyed.end(),
+                                  [&](const IdIndex& k) { return fits_16(k.index - own); });
+    if (wide_first || !fits) {
+      if (!wide_first) {  // its 16-bit slots only say "kept wide"
+        narrow_.resize(narrow_.size() + keyed.size(), kWideRow);
+        wide_rows_.push_back(static_cast<std::uint32_t>(i));
+        wide_starts_.push_back(static_cast<std::uint32_t>(wide_.size()));
+      }
+      for (const IdIndex& k : keyed) wide_.push_back(k.index);
+    } else {
+      for (const IdIndex& k : keyed) narrow_.push_back(static_cast<std::int16_t>(k.index - own));
+    }
+    if (!fits) far_pairs += keyed.size();
+    pairs += keyed.size();
+    if (pairs > std::numeric_limits<std::uint32_t>::max())
       throw std::length_error("sphdem: more than 2^32 neighbour pairs on one rank");
-    offset_[i + 1] = static_cast<std::uint32_t>(index_.size());
+    offset_[i + 1] = static_cast<std::uint32_t>(pairs);
   }
+  const bool all_wide = 4 * far_pairs > pairs;
+  if (wide_first && !all_wide)
+    store_mixed();
+  else if (!wide_first && all_wide)
+    store_all_wide();
+  all_wide_ = all_wide;
   x_at_build_.assign(ps.x.begin(), ps.x.begin() + static_cast<std::ptrdiff_t>(n_own));
   ++builds_;
+}
+
+template <int D>
+std::size_t NeighborList<D>::wide_start(std::size_t i) const {
+  const auto at = std::lower_bound(wide_rows_.begin(), wide_rows_.end(), i);
+  return wide_starts_[static_cast<std::size_t>(at - wide_rows_.begin())];
+}
+
+// Every list as 32-bit indices, from the mixed storage (all_wide_ false).
+template <int D>
+void NeighborList<D>::store_all_wide() {
+  std::vector<std::int32_t> all(total_pairs());
+  for (std::size_t i = 0; i + 1 < offset_.size(); ++i) {
+    const NeighborRow nb = row(i);
+    for (std::size_t n = begin(i); n < end(i); ++n) all[n] = nb[n];
+  }
+  wide_.swap(all);
+  std::vector<std::int16_t>().swap(narrow_);  // its memory back
+  wide_rows_.clear();
+  wide_starts_.clear();
+}
+
+// The mixed storage from every list in wide_ (all_wide_ true).
+template <int D>
+void NeighborList<D>::store_mixed() {
+  std::vector<std::int16_t> narrow(total_pairs());
+  std::vector<std::int32_t> far;
+  wide_rows_.clear();
+  wide_starts_.clear();
+  for (std::size_t i = 0; i + 1 < offset_.size(); ++i) {
+    const auto own = static_cast<std::int32_t>(i);
+    const auto first = wide_.begin() + begin(i), last = wide_.begin() + end(i);
+    if (std::all_of(first, last, [&](std::int32_t j) { return fits_16(j - own); })) {
+      for (std::size_t n = begin(i); n < end(i); ++n)
+        narrow[n] = static_cast<std::int16_t>(wide_[n] - own);
+    } else {
+      for (std::size_t n = begin(i); n < end(i); ++n) narrow[n] = kWideRow;
+      wide_rows_.push_back(static_cast<std::uint32_t>(i));
+      wide_starts_.push_back(static_cast<std::uint32_t>(far.size()));
+      far.insert(far.end(), first, last);
+    }
+  }
+  narrow_.swap(narrow);
+  wide_.swap(far);
 }
 
 template <int D>

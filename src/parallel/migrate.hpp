@@ -16,33 +16,39 @@ namespace sphdem {
 namespace detail {
 
 // Leaving particles grouped by destination rank (in local order within a
-// group) and the count per rank; `stay` gets the particles this rank keeps.
+// group) and the count per rank; `stay` the particles this rank keeps, when
+// asked and some particle leaves (else all stay, in place).
 struct Departures {
   std::vector<std::size_t> leave;
   std::vector<std::int64_t> counts;
   std::vector<std::size_t> stay;
 };
 
+// The owner is looked up again instead of kept: no scratch per particle at
+// a rebuild, where the lists and records of the last step are still held
+// (docs/performance.md, "16-bit neighbour lists").
 template <int D, class P>
-Departures sort_departures(const Decomposition<D>& dec, const P& ps) {
+Departures sort_departures(const Decomposition<D>& dec, const P& ps, bool with_stay) {
   const int me = dec.comm().rank();
   Departures d;
   d.counts.assign(static_cast<std::size_t>(dec.comm().size()), 0);
-  std::vector<int> dest(ps.n_owned);
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    dest[i] = dec.owner(ps.x[i]);
-    if (dest[i] == me)
-      d.stay.push_back(i);
-    else
-      ++d.counts[static_cast<std::size_t>(dest[i])];
+    const int dest = dec.owner(ps.x[i]);
+    if (dest != me) ++d.counts[static_cast<std::size_t>(dest)];
   }
   std::vector<std::size_t> next(d.counts.size() + 1, 0);
   for (std::size_t r = 0; r < d.counts.size(); ++r) {
     next[r + 1] = next[r] + static_cast<std::size_t>(d.counts[r]);
   }
+  if (next.back() == 0) return d;
   d.leave.resize(next.back());
+  if (with_stay) d.stay.reserve(ps.n_owned - next.back());
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    if (dest[i] != me) d.leave[next[static_cast<std::size_t>(dest[i])]++] = i;
+    const int dest = dec.owner(ps.x[i]);
+    if (dest != me)
+      d.leave[next[static_cast<std::size_t>(dest)]++] = i;
+    else if (with_stay)
+      d.stay.push_back(i);
   }
   return d;
 }
@@ -68,7 +74,7 @@ template <int D, class P>
 MigrationCounts migrate(const Decomposition<D>& dec, P& ps) {
   ps.clear_ghosts();
   const auto want = [](FieldPolicy p) { return p.migrate; };
-  const detail::Departures d = detail::sort_departures(dec, ps);
+  const detail::Departures d = detail::sort_departures(dec, ps, true);
   const MPI_Comm comm = dec.comm().raw();
   const detail::Route send = detail::route_from_counts(d.counts);
   const detail::Route recv = detail::route_from_counts(detail::transpose_counts(comm, d.counts));
@@ -79,8 +85,8 @@ MigrationCounts migrate(const Decomposition<D>& dec, P& ps) {
   std::vector<char> in(recv.total() * rec);
   detail::exchange(comm, send, out.data(), recv, in.data(), MPI_BYTE, rec);
 
-  ps.permute_owned(d.stay);
-  const std::size_t kept = d.stay.size();
+  const std::size_t kept = ps.n_owned - d.leave.size();
+  if (!d.leave.empty()) ps.permute_owned(d.stay);  // else all stay where they are
   ps.resize(kept + recv.total());
   detail::unpack_records(ps, kept, recv.total(), want, in.data());
   ps.n_owned = ps.size();
@@ -95,7 +101,7 @@ template <int D, class P>
 MigrationCounts migrate_in_place(const Decomposition<D>& dec, P& ps) {
   ps.clear_ghosts();
   const auto want = [](FieldPolicy p) { return p.migrate; };
-  const detail::Departures d = detail::sort_departures(dec, ps);
+  const detail::Departures d = detail::sort_departures(dec, ps, false);
   const MPI_Comm comm = dec.comm().raw();
   const detail::Route send = detail::route_from_counts(d.counts);
   const detail::Route recv = detail::route_from_counts(detail::transpose_counts(comm, d.counts));

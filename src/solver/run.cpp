@@ -12,6 +12,9 @@
 #include <fstream>
 #include <limits>
 #include <ostream>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <stdexcept>
 
 #include "sphdem/config/config.hpp"
@@ -32,6 +35,16 @@ namespace {
 // Fibers alone check their health every this many steps (a resin run
 // checks at every rebuild of its lists as well).
 constexpr std::int64_t kHealthEvery = 100;
+
+// The set-up's temporaries (fields grown a particle at a time, the case's
+// geometry) leave freed pages that glibc keeps resident: returned to the
+// system once the run's own memory is in place (docs/performance.md, "16-bit
+// neighbour lists").
+void release_freed_memory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
 
 }  // namespace
 
@@ -66,6 +79,7 @@ Run<D>::Run(const Case& c, const Comm& comm, RunOptions opt)
   check_health();
   // The rates of the initial state (the first step's first kick uses them).
   for (auto& m : modules_) m->rates();
+  release_freed_memory();
 }
 
 template <int D>

@@ -50,7 +50,6 @@ void particles_near_flags(const NeighborList<D>& nl, const SphParticles<D>& ps,
   const std::size_t n_owned = ps.n_owned;
   thread_local std::vector<std::uint8_t> mark;
   mark.assign(n_owned, 0);
-  const std::int32_t* nb = nl.indices();
   const auto mark_resin = [&](std::size_t i) {
     if (ps.kind[i] == Kind::Fluid) mark[i] = 1;
   };
@@ -61,6 +60,7 @@ void particles_near_flags(const NeighborList<D>& nl, const SphParticles<D>& ps,
       continue;
     }
     mark_resin(j);
+    const NeighborRow nb = nl.row(j);
     for (std::size_t b = nl.begin(j), e = nl.end(j); b < e; ++b) {
       const auto k = static_cast<std::size_t>(nb[b]);
       if (k < n_owned) mark_resin(k);
@@ -70,6 +70,7 @@ void particles_near_flags(const NeighborList<D>& nl, const SphParticles<D>& ps,
     for (std::size_t i = 0; i < n_owned; ++i) {
       if (mark[i] || ps.kind[i] != Kind::Fluid) continue;
       const std::size_t b0 = nl.begin(i), e = nl.end(i);
+      const NeighborRow nb = nl.row(i);
       std::int32_t last = -1;  // the largest index listed: a ghost when >= n_owned
       for (std::size_t b = b0; b < e; ++b) last = std::max(last, nb[b]);
       if (last < 0 || static_cast<std::size_t>(last) < n_owned) continue;

@@ -12,10 +12,10 @@ std::vector<WeldMark<D>> mark_weld_lines(const SphParams& sp, const NeighborList
                                          SphParticles<D>& ps) {
   std::vector<WeldMark<D>> flagged;
   const double support2 = 4.0 * sp.h * sp.h;
-  const std::int32_t* nb = nl.indices();
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid || ps.weld_line[i] != 0 || ps.free_surface[i] == 0.0) continue;
     const Vec<D>& n_i = ps.surface_normal[i];
+    const NeighborRow nb = nl.row(i);
     for (std::size_t k = nl.begin(i), e = nl.end(i); k < e; ++k) {
       const std::size_t j = static_cast<std::size_t>(nb[k]);
       if (ps.kind[j] != Kind::Fluid || ps.free_surface[j] == 0.0) continue;

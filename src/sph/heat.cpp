@@ -26,12 +26,12 @@ void compute_heat_rates(const SphParams& sp, const NeighborList<D>& nl, SphParti
   // The Morris-type Laplacian's lattice correction (sph.hpp), as for the
   // viscosity: the same discrete second moment.
   const double scale = sp.mu_scale / sp.heat_capacity;
-  const std::int32_t* nb = nl.indices();
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid) continue;
     const Vec<D> xi = ps.x[i];
     const double rho_i = ps.rho[i], t_i = ps.temperature[i];
     double du = 0.0;
+    const NeighborRow nb = nl.row(i);
     for (std::size_t n = nl.begin(i), e = nl.end(i); n < e; ++n) {
       const std::int32_t j = nb[n];
       const double r2 = (xi - ps.x[j]).squaredNorm();

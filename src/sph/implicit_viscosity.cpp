@@ -19,12 +19,12 @@ void ViscousOperator<D>::build(const SphParams& sp, const NeighborList<D>& nl,
   const WendlandC2<D> kernel(sp.h);
   coeff.assign(nl.total_pairs(), 0.0);
   row_sum.assign(ps.n_owned, 0.0);
-  const std::int32_t* nb = nl.indices();
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid) continue;
     const double mu_i = sp.variable_viscosity ? ps.viscosity[i] : sp.mu;
     const double scale_i = sp.mu_scale / ps.rho[i];
     double s = 0.0;
+    const NeighborRow nb = nl.row(i);
     for (std::size_t n = nl.begin(i), e = nl.end(i); n < e; ++n) {
       const auto j = static_cast<std::size_t>(nb[n]);
       const double r2 = (ps.x[i] - ps.x[j]).squaredNorm();
@@ -44,10 +44,10 @@ template <int D>
 void ViscousOperator<D>::apply(const NeighborList<D>& nl, const SphParticles<D>& ps,
                                const std::vector<Vec<D>>& u, std::vector<Vec<D>>& out) const {
   out.assign(ps.n_owned, Vec<D>::Zero());
-  const std::int32_t* nb = nl.indices();
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid) continue;
     Vec<D> a = Vec<D>::Zero();
+    const NeighborRow nb = nl.row(i);
     for (std::size_t n = nl.begin(i), e = nl.end(i); n < e; ++n)
       a += coeff[n] * (u[i] - u[static_cast<std::size_t>(nb[n])]);
     out[i] = a;
@@ -80,10 +80,10 @@ class ViscousSystem {
     const WendlandC2<D> kernel(sp.h);
     shepard_.assign(nl.total_pairs(), 0.0);
     wall_sum_.assign(n, 0.0);
-    const std::int32_t* nb = nl.indices();
     for (std::size_t w = 0; w < n; ++w) {
       if (ps.kind[w] != Kind::Wall) continue;
       double sum = 0.0;
+      const NeighborRow nb = nl.row(w);
       for (std::size_t k = nl.begin(w), e = nl.end(w); k < e; ++k) {
         const double W = kernel.w((ps.x[w] - ps.x[static_cast<std::size_t>(nb[k])]).norm());
         shepard_[k] = W;
@@ -109,7 +109,6 @@ class ViscousSystem {
         ps_.visc_u[i] = homogeneous ? Vec<D>::Zero() : ps_.v[i];
     }
     hooks_.forward(SphGroup::Viscous);
-    const std::int32_t* nb = nl_.indices();
     for (std::size_t w = 0; w < n; ++w) {
       if (ps_.kind[w] != Kind::Wall) continue;
       const Vec<D> vw = homogeneous ? Vec<D>::Zero() : ps_.v[w];
@@ -118,6 +117,7 @@ class ViscousSystem {
         continue;
       }
       Vec<D> mean = Vec<D>::Zero();
+      const NeighborRow nb = nl_.row(w);
       for (std::size_t k = nl_.begin(w), e = nl_.end(w); k < e; ++k)
         mean += shepard_[k] * ps_.visc_u[static_cast<std::size_t>(nb[k])];
       const std::int32_t index = ps_.wall[w];
@@ -135,10 +135,10 @@ class ViscousSystem {
   void rows(std::vector<Vec<D>>& out) const {
     const std::size_t n = ps_.n_owned;
     out.assign(n, Vec<D>::Zero());
-    const std::int32_t* nb = nl_.indices();
     for (std::size_t i = 0; i < n; ++i) {
       if (!(ps_.visc_free[i] > 0.5)) continue;
       Vec<D> s = Vec<D>::Zero();
+      const NeighborRow nb = nl_.row(i);
       for (std::size_t k = nl_.begin(i), e = nl_.end(i); k < e; ++k)
         s += op_.coeff[k] * ps_.visc_u[static_cast<std::size_t>(nb[k])];
       out[i] = diag_[i] * ps_.visc_u[i] + (dt_ * ps_.mass[i]) * s;
@@ -321,10 +321,10 @@ void add_viscous_density(const SphParams& sp, double dt, const NeighborList<D>& 
   forward(SphGroup::Viscous);
   const WendlandC2<D> kernel(sp.h);
   const double support2 = 4.0 * sp.h * sp.h;
-  const std::int32_t* nb = nl.indices();
   for (std::size_t i = 0; i < n; ++i) {
     if (ps.kind[i] != Kind::Fluid) continue;
     double drho = 0.0;
+    const NeighborRow nb = nl.row(i);
     for (std::size_t k = nl.begin(i), e = nl.end(i); k < e; ++k) {
       const auto j = static_cast<std::size_t>(nb[k]);
       const Vec<D> x_ij = ps.x[i] - ps.x[j];

@@ -32,6 +32,7 @@
 
 #include "lane_gather.hpp"
 #include "record_fields.hpp"
+#include "sphdem/core/scratch.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
 
 namespace sphdem::terms {
@@ -345,20 +346,19 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
 
   // 0. The records (every particle, ghosts included); a second run (redo)
   // fills only those whose inputs changed.
-  thread_local std::vector<PackedRecord<kStride>> records;
+  // They live in the scratch the list build shares (sphdem/core/scratch.hpp).
   const std::size_t n = ps.size();
+  // With an odd record size one double more, which the gather by pairs of
+  // doubles reads (lane_gather.hpp).
+  PackedRecord<kStride>* rec =
+      reinterpret_cast<PackedRecord<kStride>*>(shared_scratch(n * kStride + kStride % 2));
   if (run.redo == nullptr) {
-    // A small margin, not a doubling; with an odd record size one double
-    // more, which the gather by pairs of doubles reads (lane_gather.hpp).
-    resize_field(records, n + kStride % 2);
-    PackedRecord<kStride>* rec = records.data();
     for (std::size_t i = 0; i < n; ++i)
       FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
   } else {
     for (const std::uint32_t j : *run.refill)
-      FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, j, records[j].v);
+      FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, j, rec[j].v);
   }
-  PackedRecord<kStride>* rec = records.data();
 
   [&]<class... S>(TermList<S...>) {
     const std::tuple<typename S::Term...> terms{make_term<typename S::Term>(ctx)...};
@@ -374,7 +374,6 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     const std::size_t count = run.redo != nullptr ? run.redo->size() : ps.n_owned;
     Vec<D> g;
     for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
-    const std::int32_t* nb = nl.indices();
     constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
     alignas(64) double lanes[Lanes::kSize * kChunk];
     alignas(64) double acc_lane[D][kChunk];                             // per-pair acceleration
@@ -401,22 +400,27 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
           side_i = side_i && Side::template wanted<D>(sp, ps, i);
       }
       int near = 0;  // some neighbour within close2
+      const NeighborRow nb = nl.row(i);
       for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
         const std::size_t cnt = std::min(kChunk, e - b);
 
         // 1. Gather: four neighbours at a time where AVX is there (the last
         // block repeats the chunk's last neighbour; step 2 reads k < cnt).
+        // The chunk's indices decoded once (16- or 32-bit lists, NeighborRow),
+        // padded with the last one to a multiple of four.
         using Gather = GatherLanes<D, typename N::LaneFields>;
+        alignas(64) std::int32_t idx[kChunk + 3];
+        for (std::size_t k = 0; k < cnt; ++k) idx[k] = nb[b + k];
+        idx[cnt] = idx[cnt + 1] = idx[cnt + 2] = idx[cnt - 1];
         if constexpr (kGatherFour) {
           for (std::size_t k = 0; k < cnt; k += 4) {
-            const double* const r[4] = {rec[nb[b + k]].v, rec[nb[b + std::min(k + 1, cnt - 1)]].v,
-                                        rec[nb[b + std::min(k + 2, cnt - 1)]].v,
-                                        rec[nb[b + std::min(k + 3, cnt - 1)]].v};
+            const double* const r[4] = {rec[idx[k]].v, rec[idx[k + 1]].v, rec[idx[k + 2]].v,
+                                        rec[idx[k + 3]].v};
             Gather::template four_pairs<Lanes, Record>(own, r, k, lanes);
           }
         } else {
           for (std::size_t k = 0; k < cnt; ++k)
-            Gather::template run<Lanes, Record>(own, rec[nb[b + k]], k, lanes);
+            Gather::template run<Lanes, Record>(own, rec[idx[k]], k, lanes);
         }
 
         // 2. Pair terms, branch-free (vectorized).

@@ -47,10 +47,10 @@ template <int D>
 void add_shift_density(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps) {
   const WendlandC2<D> kernel(sp.h);
   const double support2 = 4.0 * sp.h * sp.h;
-  const std::int32_t* nb = nl.indices();
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid) continue;
     double drho = 0.0;
+    const NeighborRow nb = nl.row(i);
     for (std::size_t n = nl.begin(i), e = nl.end(i); n < e; ++n) {
       const std::int32_t j = nb[n];
       const Vec<D> x_ij = ps.x[i] - ps.x[j];

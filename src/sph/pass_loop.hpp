@@ -139,7 +139,6 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
     for (std::size_t i = 0; i < n; ++i) positive = positive && rec[i].v[o] > 0.0;
     if (positive) block = 16;
   }
-  const std::int32_t* nb = nl.indices();
   constexpr std::size_t kPos = Lanes::template offset<field::Pos>();
   alignas(64) double lanes[Lanes::kSize * kChunk];
   alignas(64) double part[kSums][kChunk];
@@ -157,6 +156,7 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
     }
     const double* own = rec[i].v;
     double sums[kSums] = {};
+    const NeighborRow nb = nl.row(i);
     for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += block) {
       const std::size_t cnt = std::min(block, e - b);
       for (std::size_t k = 0; k < cnt; ++k)

@@ -45,12 +45,12 @@ void add_free_surface_traction(const SphParams& sp, const NeighborList<D>& nl,
   const WendlandC2<D> kernel(sp.h);
   const double support2 = 4.0 * sp.h * sp.h;
   const double morris_scale = sp.mu_scale / sp.grad_scale;
-  const std::int32_t* nb = nl.indices();
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid || ps.free_surface[i] == 0.0) continue;
     Eigen::Matrix<double, D, D> L = Eigen::Matrix<double, D, D>::Zero();
     Eigen::Matrix<double, D, D> B = Eigen::Matrix<double, D, D>::Zero();
     Vec<D> g = Vec<D>::Zero();
+    const NeighborRow nb = nl.row(i);
     for (std::size_t n = nl.begin(i), e = nl.end(i); n < e; ++n) {
       const std::int32_t j = nb[n];
       const Vec<D> x_ij = ps.x[i] - ps.x[j];
@@ -82,12 +82,12 @@ void SurfaceTractionOperator<D>::build(const SphParams& sp, const NeighborList<D
   const WendlandC2<D> kernel(sp.h);
   const double support2 = 4.0 * sp.h * sp.h;
   const double morris_scale = sp.mu_scale / sp.grad_scale;
-  const std::int32_t* nb = nl.indices();
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     if (ps.kind[i] != Kind::Fluid || ps.free_surface[i] == 0.0) continue;
     Eigen::Matrix<double, D, D> B = Eigen::Matrix<double, D, D>::Zero();
     Vec<D> gi = Vec<D>::Zero();
     const std::size_t first = q.size();
+    const NeighborRow nb = nl.row(i);
     for (std::size_t n = nl.begin(i), e = nl.end(i); n < e; ++n) {
       const std::int32_t j = nb[n];
       const Vec<D> x_ij = ps.x[i] - ps.x[j];

@@ -55,12 +55,12 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
   Vec<D> g;
   for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
   std::vector<WallFaceSample> face;
-  const std::int32_t* nb = nl.indices();
   for (std::size_t w = 0; w < ps.n_owned; ++w) {
     if (ps.kind[w] != Kind::Wall) continue;
     const Vec<D> xw = ps.x[w];
     double sum_w = 0.0, sum_p = 0.0, sum_t = 0.0;
     Vec<D> sum_rho_r = Vec<D>::Zero(), sum_v = Vec<D>::Zero();
+    const NeighborRow nb = nl.row(w);
     for (std::size_t n = nl.begin(w), e = nl.end(w); n < e; ++n) {
       const std::int32_t f = nb[n];
       const Vec<D> r_wf = xw - ps.x[f];

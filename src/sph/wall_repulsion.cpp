@@ -38,11 +38,11 @@ void add_wall_repulsion(const SphParams& sp, const NeighborList<D>& nl, SphParti
   const double r0 = 0.9 * sp.spacing;
   const double r0_2 = r0 * r0;
   const double strength = sp.c0 * sp.c0;
-  const std::int32_t* nb = nl.indices();
   for (const std::uint32_t c : candidates) {
     const std::size_t i = c;
     if (ps.kind[i] != Kind::Fluid) continue;
     Vec<D> acc = Vec<D>::Zero();
+    const NeighborRow nb = nl.row(i);
     for (std::size_t n = nl.begin(i), e = nl.end(i); n < e; ++n) {
       const std::int32_t j = nb[n];
       if (ps.kind[j] != Kind::Wall) continue;

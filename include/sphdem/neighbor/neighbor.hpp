@@ -5,11 +5,33 @@
 // id, so the sums of the gather formulation run in an order that does not
 // depend on the particle layout or the rank count.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "sphdem/particles/particles.hpp"
 
 namespace sphdem {
+
+// One particle's neighbours: nb[n] for a list position n in [begin(i),
+// end(i)) is the neighbour's particle index. Most lists hold 16-bit offsets
+// from the particle's own index (particles are sorted by cell, so in 2D a
+// neighbour is a few thousand slots away); a list with some neighbour
+// farther off (a ghost appended at the end, a 3D slab of cells) keeps
+// 32-bit indices. The choice is per list and loop-invariant in a walk.
+class NeighborRow {
+ public:
+  NeighborRow(const std::int16_t* narrow, std::int32_t base) : narrow_(narrow), base_(base) {}
+  NeighborRow(const std::int32_t* wide, std::size_t shift) : wide_(wide), shift_(shift) {}
+  std::int32_t operator[](std::size_t n) const {
+    return wide_ != nullptr ? wide_[n - shift_] : base_ + narrow_[n];
+  }
+
+ private:
+  const std::int16_t* narrow_ = nullptr;
+  std::int32_t base_ = 0;
+  const std::int32_t* wide_ = nullptr;
+  std::size_t shift_ = 0;
+};
 
 template <int D>
 class NeighborList {
@@ -28,8 +50,20 @@ class NeighborList {
 
   std::size_t begin(std::size_t i) const { return offset_[i]; }
   std::size_t end(std::size_t i) const { return offset_[i + 1]; }
-  const std::int32_t* indices() const { return index_.data(); }
-  std::size_t total_pairs() const { return index_.size(); }
+  // Particle i's neighbours, indexed by list position (NeighborRow).
+  NeighborRow row(std::size_t i) const {
+    const std::size_t b = offset_[i];
+    if (all_wide_) return {wide_.data(), std::size_t{0}};
+    if (b == offset_[i + 1] || narrow_[b] != kWideRow)
+      return {narrow_.data(), static_cast<std::int32_t>(i)};
+    return {wide_.data(), b - wide_start(i)};
+  }
+  std::size_t total_pairs() const { return offset_.empty() ? 0 : offset_.back(); }
+  // How the last build stored its lists: the pairs kept as 32-bit indices
+  // (lists with an offset beyond 16 bits; every pair when those were more
+  // than a quarter of all, then no 16-bit array is kept).
+  std::size_t wide_pairs() const { return all_wide_ ? total_pairs() : wide_.size(); }
+  bool all_wide() const { return all_wide_; }
   double cutoff() const { return support_ + skin_; }
   double skin() const { return skin_; }
   std::int64_t builds() const { return builds_; }
@@ -39,8 +73,18 @@ class NeighborList {
 
  private:
   double support_, skin_;
+  // A 16-bit list that starts with kWideRow is kept in wide_ instead
+  // (wide_rows_ and wide_starts_ say where); offsets are within +-32767.
+  static constexpr std::int16_t kWideRow = std::numeric_limits<std::int16_t>::min();
+  std::size_t wide_start(std::size_t i) const;
+  void store_all_wide();
+  void store_mixed();
+
   std::vector<std::uint32_t> offset_;  // 4 bytes per particle (build checks the count)
-  std::vector<std::int32_t> index_;
+  std::vector<std::int16_t> narrow_;   // per pair: neighbour index - own index
+  std::vector<std::int32_t> wide_;     // the lists that do not fit (all of them if all_wide_)
+  std::vector<std::uint32_t> wide_rows_, wide_starts_;  // those lists' particles and starts
+  bool all_wide_ = false;
   std::vector<Vec<D>> x_at_build_;
   std::int64_t builds_ = 0;
   // The cell grid's starts, kept to avoid reallocations (the binning's

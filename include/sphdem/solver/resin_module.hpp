@@ -52,7 +52,8 @@ class ResinModule final : public Module<D> {
   const Box<D>& domain() const { return domain_; }
   double neighbor_cutoff() const { return nl_.cutoff(); }
   std::int64_t neighbor_builds() const { return nl_.builds(); }
-  std::size_t neighbor_pairs() const { return nl_.total_pairs(); }  // this rank's lists
+  std::size_t neighbor_pairs() const { return nl_.total_pairs(); }      // this rank's lists
+  std::size_t neighbor_wide_pairs() const { return nl_.wide_pairs(); }  // of those, 32-bit
   // Load balance (docs/parallel.md): the imbalance (max / mean - 1 of the
   // per-rank work) at the last check, and how many re-partitions happened.
   double last_imbalance() const { return last_imbalance_; }

@@ -31,7 +31,7 @@ struct SurfaceTractionOperator {
   template <class Velocities>
   Vec<D> row(std::size_t r, const NeighborList<D>& nl, const Velocities& u) const {
     const std::size_t i = rows[r], first = nl.begin(i);
-    const std::int32_t* nb = nl.indices();
+    const NeighborRow nb = nl.row(i);
     Vec<D> t = Vec<D>::Zero();
     for (std::size_t n = first, e = nl.end(i); n < e; ++n)
       t += g[r].dot(u[static_cast<std::size_t>(nb[n])] - u[i]) * q[offset[r] + (n - first)];

@@ -1,0 +1,143 @@
+// The neighbour lists' storage (issue 19, docs/performance.md "16-bit
+// neighbour lists"): 16-bit offsets from the particle's own index where
+// they fit, 32-bit indices for a list with a neighbour farther off, every
+// list 32-bit when those hold more than a quarter of the pairs. Whatever
+// the storage, each list is what a brute-force search gives: every
+// particle within the cut-off (walls: resin only), in global-id order.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <vector>
+
+#include "sphdem/neighbor/neighbor.hpp"
+#include "sphdem/particles/particles.hpp"
+
+namespace sphdem {
+namespace {
+
+void add(SphParticles<2>& ps, std::int64_t gid, Kind kind, Vec<2> x) {
+  ps.push_owned(gid, kind, -1, 1.0, x, Vec<2>::Zero(), 1000.0);
+}
+
+// Particle i's list by brute force.
+std::vector<std::int32_t> brute(const SphParticles<2>& ps, std::size_t i, double rc) {
+  std::vector<std::int32_t> l;
+  for (std::size_t j = 0; j < ps.size(); ++j) {
+    if (j == i || (ps.kind[i] == Kind::Wall && ps.kind[j] == Kind::Wall)) continue;
+    if ((ps.x[i] - ps.x[j]).squaredNorm() < rc * rc) l.push_back(static_cast<std::int32_t>(j));
+  }
+  std::sort(l.begin(), l.end(), [&](std::int32_t a, std::int32_t b) {
+    if (ps.gid[a] != ps.gid[b]) return ps.gid[a] < ps.gid[b];
+    return std::lexicographical_compare(ps.x[a].begin(), ps.x[a].end(), ps.x[b].begin(),
+                                        ps.x[b].end());
+  });
+  return l;
+}
+
+std::vector<std::int32_t> listed(const NeighborList<2>& nl, std::size_t i) {
+  std::vector<std::int32_t> l;
+  const NeighborRow nb = nl.row(i);
+  for (std::size_t n = nl.begin(i); n < nl.end(i); ++n) l.push_back(nb[n]);
+  return l;
+}
+
+void expect_rows(const SphParticles<2>& ps, const NeighborList<2>& nl,
+                 const std::vector<std::size_t>& rows) {
+  for (const std::size_t i : rows) EXPECT_EQ(listed(nl, i), brute(ps, i, nl.cutoff())) << i;
+}
+
+// A 200 x 200 lattice (spacing 1, cut-off 1.5: 8 neighbours, offsets up
+// to 201) in row order, walls on the first row.
+SphParticles<2> lattice() {
+  SphParticles<2> ps;
+  for (int y = 0; y < 200; ++y)
+    for (int x = 0; x < 200; ++x)
+      add(ps, 200 * y + x, y == 0 ? Kind::Wall : Kind::Fluid, Vec<2>(x, y));
+  return ps;
+}
+
+TEST(NeighborStorage, RandomCloudWithGhostsMatchesBruteForce) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 10.0);
+  SphParticles<2> ps;
+  for (int k = 0; k < 600; ++k) add(ps, k, k % 5 == 0 ? Kind::Wall : Kind::Fluid, {u(rng), u(rng)});
+  ps.resize(650);  // ghosts, among them images of owned particles (the same gid)
+  for (std::size_t g = 600; g < 650; ++g) {
+    ps.gid[g] = static_cast<std::int64_t>(g % 2 == 0 ? g - 600 : g);
+    ps.kind[g] = g % 3 == 0 ? Kind::Wall : Kind::Fluid;
+    ps.x[g] = Vec<2>(u(rng), u(rng));
+  }
+  sort_by_cell<2>(ps, 1.2);
+  NeighborList<2> nl(1.0, 0.2);
+  nl.build(ps);
+  std::vector<std::size_t> all(ps.n_owned);
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  expect_rows(ps, nl, all);
+  EXPECT_EQ(nl.wide_pairs(), 0u);  // 650 particles: every offset fits
+  EXPECT_FALSE(nl.all_wide());
+}
+
+// The lists with an offset past 16 bits (the four lattice particles around
+// particle 40,000 and its own) are kept 32-bit, the others 16-bit.
+TEST(NeighborStorage, FarNeighbourKeepsThatListWide) {
+  SphParticles<2> ps = lattice();
+  add(ps, 40000, Kind::Fluid, Vec<2>(0.5, 0.5));  // among particles 0, 1, 200, 201
+  NeighborList<2> nl(1.0, 0.5);
+  nl.build(ps);
+  EXPECT_FALSE(nl.all_wide());
+  std::size_t far = 0;
+  for (const std::size_t i : {0, 1, 200, 201, 40000}) far += nl.end(i) - nl.begin(i);
+  EXPECT_EQ(nl.wide_pairs(), far);
+  EXPECT_EQ(far, 3u + 4 + 6 + 9 + 4);  // walls 0 and 1 list resin only
+  expect_rows(ps, nl, {0, 1, 2, 199, 200, 201, 202, 20100, 39799, 39998, 39999, 40000});
+  EXPECT_EQ(listed(nl, 0).back(), 40000);  // the last gid
+}
+
+// Every list with a far neighbour: all 32-bit; then a layout that fits
+// 16 bits again (a rebuild of the same list converts back).
+TEST(NeighborStorage, MostlyFarListsAreAllWideAndBack) {
+  const int half = 35000;
+  SphParticles<2> ps;
+  for (int k = 0; k < 2 * half; ++k)  // k and k + half side by side, 10 apart from the next
+    add(ps, k, Kind::Fluid, Vec<2>(10.0 * (k % half), k < half ? 0.0 : 0.5));
+  NeighborList<2> nl(1.0, 0.2);
+  nl.build(ps);
+  EXPECT_TRUE(nl.all_wide());
+  EXPECT_EQ(nl.total_pairs(), static_cast<std::size_t>(2 * half));
+  EXPECT_EQ(nl.wide_pairs(), nl.total_pairs());
+  expect_rows(ps, nl, {0, 1, 17, 34999, 35000, 35001, 69999});
+  EXPECT_EQ(listed(nl, 3), std::vector<std::int32_t>{3 + half});
+
+  for (int k = 0; k < 2 * half; ++k)  // pairs (2m, 2m + 1) side by side
+    ps.x[static_cast<std::size_t>(k)] = Vec<2>(10.0 * (k / 2), 0.5 * (k % 2));
+  nl.build(ps);
+  EXPECT_FALSE(nl.all_wide());
+  EXPECT_EQ(nl.wide_pairs(), 0u);
+  expect_rows(ps, nl, {0, 1, 2, 3, 34999, 35000, 69998, 69999});
+
+  for (int k = 0; k < 2 * half; ++k)  // and far apart again: 16-bit first, then converted
+    ps.x[static_cast<std::size_t>(k)] = Vec<2>(10.0 * (k % half), k < half ? 0.0 : 0.5);
+  nl.build(ps);
+  EXPECT_TRUE(nl.all_wide());
+  expect_rows(ps, nl, {0, 5, 34999, 35000, 69999});
+}
+
+// Fifty far lists among 40,000 16-bit ones: each as the brute force gives.
+TEST(NeighborStorage, ManyFarListsAmongNarrowOnes) {
+  SphParticles<2> ps = lattice();
+  for (int k = 0; k < 50; ++k)  // far-indexed particles beside the lattice's first rows
+    add(ps, 40000 + k, Kind::Fluid, Vec<2>(4.0 * k + 0.5, 0.5));
+  NeighborList<2> mixed(1.0, 0.5);
+  mixed.build(ps);
+  ASSERT_FALSE(mixed.all_wide());
+  ASSERT_GT(mixed.wide_pairs(), 0u);
+  std::vector<std::size_t> rows;
+  for (std::size_t i = 0; i < ps.n_owned; i += 97) rows.push_back(i);
+  for (std::size_t i = 40000; i < ps.n_owned; ++i) rows.push_back(i);
+  for (std::size_t i = 0; i < 200; i += 4) rows.push_back(i);
+  expect_rows(ps, mixed, rows);
+}
+
+}  // namespace
+}  // namespace sphdem
