@@ -170,13 +170,15 @@ TEST(Cavitation, ThePressureStopsAtTheFloor) {
   EXPECT_EQ(ps.p[0], eos.pressure(950));
 }
 
-// Without a floor the run stops at 0.363 s (the splash's pile in the far
-// corner in tension, docs/validation.md section 12); with the resin opening
+// Without a floor the run stops before its end: at 0.363 s in the test
+// build, 0.377 s in the sanitize build (generic x86-64, no FMA: the
+// splash's rounding differs), the splash's pile in the far corner in
+// tension (docs/validation.md section 12); with the resin opening
 // where it would pull (tensile strength 0: no tension at all, and 1000 Pa,
 // 0.07 B) it reaches 0.4 s with every particle in the box and no jet.
 TEST(Cavitation, DamBreakAtAlpha002WithoutShiftingReachesItsEnd) {
   const double t_end = 0.4;
-  EXPECT_LT(dam_break_end(t_end, {}).t, 0.37);
+  EXPECT_LT(dam_break_end(t_end, {}).t, 0.99 * t_end);
   for (const char* strength : {"0", "1000"}) {
     std::printf("[          ] tensile strength %s Pa\n", strength);
     const DamBreakEnd r = dam_break_end(t_end, {std::string("resin.tensile_strength=") + strength});
