@@ -31,6 +31,8 @@ import sys
 import h5py
 import numpy as np
 
+from timeouts import scaled  # the tests' own module (tests/timeouts.py)
+
 if len(sys.argv) < 5 or sys.argv[1] in ("-h", "--help"):
     print(__doc__)
     sys.exit(0 if len(sys.argv) == 2 else 2)
@@ -61,7 +63,7 @@ def expect(cond, what):
 def run(args, ranks=None):
     cmd = [exe, *args] if ranks is None else [mpiexec, "-n", str(ranks), *mpi_flags, exe, *args]
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    p = subprocess.run(cmd, capture_output=True, text=True, cwd=work, timeout=300, env=env)
+    p = subprocess.run(cmd, capture_output=True, text=True, cwd=work, timeout=scaled(300), env=env)
     return p.returncode, p.stdout + p.stderr
 
 

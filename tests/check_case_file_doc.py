@@ -9,12 +9,14 @@ import difflib
 import subprocess
 import sys
 
+from timeouts import scaled  # the tests' own module (tests/timeouts.py)
+
 if len(sys.argv) != 3:
     print(__doc__)
     sys.exit(2)
 exe, page = sys.argv[1:]
 generated = subprocess.run([exe, "keys", "--markdown"], capture_output=True, text=True,
-                           check=True, timeout=60).stdout
+                           check=True, timeout=scaled(60)).stdout
 with open(page) as f:
     current = f.read()
 if generated == current:

@@ -46,6 +46,8 @@ import time
 import h5py
 import numpy as np
 
+from timeouts import scaled  # the tests' own module (tests/timeouts.py)
+
 if len(sys.argv) < 6 or sys.argv[1] in ("-h", "--help"):
     print(__doc__)
     sys.exit(0 if len(sys.argv) == 2 else 2)
@@ -84,7 +86,7 @@ def env_with(extra=None):
 
 def run(args, ranks=None, env=None):
     p = subprocess.run(command(args, ranks), capture_output=True, text=True, cwd=work,
-                       timeout=150, env=env_with(env))
+                       timeout=scaled(150), env=env_with(env))
     return p.returncode, p.stdout, p.stderr
 
 
@@ -95,6 +97,7 @@ def start(args, ranks=None):
 
 def wait_for(path, proc, timeout=120):
     """Waits until `path` exists (or the process ends)."""
+    timeout = scaled(timeout)
     t0 = time.monotonic()
     while not glob.glob(path):
         if proc.poll() is not None or time.monotonic() - t0 > timeout:
@@ -173,7 +176,7 @@ def stop_with(sig, out, ranks, target, extra=()):
     expect(ok, "%s: the run is under way" % out)
     for pid in target(proc):
         os.kill(pid, sig)
-    stdout, stderr = proc.communicate(timeout=120)
+    stdout, stderr = proc.communicate(timeout=scaled(120))
     expect(proc.returncode == 0, "%s: exit status 0 after signal %d (got %d) %s"
            % (out, sig, proc.returncode, stderr.strip()[-300:]))
     expect("stopped by signal %d" % sig in stdout and "--restart latest" in stdout,
@@ -205,7 +208,7 @@ elif scenario == "sigterm_mpiexec":
     expect(wait_for(os.path.join(work, "term_mpi", "poiseuille_00000020.h5"), proc),
            "term_mpi: the run is under way")
     proc.send_signal(signal.SIGTERM)
-    stdout, stderr = proc.communicate(timeout=120)
+    stdout, stderr = proc.communicate(timeout=scaled(120))
     print("mpiexec exit status after SIGTERM: %d" % proc.returncode)
     expect(proc.returncode != 0 or "stopped by signal 15" in stdout,
            "term_mpi: status 0 only with the stopped-by-signal line")
@@ -218,14 +221,14 @@ elif scenario == "sigkill":
     # step 40's (keep) by the time we look.
     t0 = time.monotonic()
     while not [k for k in checkpoints("kill") if k >= 40]:
-        if proc.poll() is not None or time.monotonic() - t0 > 120:
+        if proc.poll() is not None or time.monotonic() - t0 > scaled(120):
             break
         time.sleep(0.02)
     expect([k for k in checkpoints("kill") if k >= 40], "the run wrote its second checkpoint")
     victims = sphdem_ranks(proc.pid)
     expect(len(victims) == 2, "found both ranks: %s" % victims)
     os.kill(victims[-1], signal.SIGKILL)
-    proc.communicate(timeout=120)
+    proc.communicate(timeout=scaled(120))
     expect(proc.returncode != 0, "mpiexec reports the killed rank (status %d)" % proc.returncode)
     restart_and_compare("kill", 1)
 

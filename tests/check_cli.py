@@ -10,6 +10,8 @@ import shutil
 import subprocess
 import sys
 
+from timeouts import scaled  # the tests' own module (tests/timeouts.py)
+
 if len(sys.argv) != 4 or sys.argv[1] in ("-h", "--help"):
     print(__doc__)
     sys.exit(0 if len(sys.argv) == 2 else 2)
@@ -22,7 +24,7 @@ checks = 0
 
 
 def run(*args):
-    p = subprocess.run([exe, *args], capture_output=True, text=True, cwd=work, timeout=300)
+    p = subprocess.run([exe, *args], capture_output=True, text=True, cwd=work, timeout=scaled(300))
     return p.returncode, p.stdout, p.stderr
 
 

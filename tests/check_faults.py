@@ -45,6 +45,8 @@ import subprocess
 import sys
 import time
 
+from timeouts import scaled  # the tests' own module (tests/timeouts.py)
+
 if len(sys.argv) < 6 or sys.argv[1] in ("-h", "--help"):
     print(__doc__)
     sys.exit(0 if len(sys.argv) == 2 else 2)
@@ -58,7 +60,7 @@ ENDLESS = ["--set", "numerics.end_time=1000", "--set", "output.every_steps=10",
            "--set", "output.progress_every=100000"]
 # A hang fails here, well inside ctest's timeout; a one-rank failure takes
 # about a second after the start-up.
-DEADLINE = 40
+DEADLINE = scaled(40)
 failures = []
 
 

@@ -9,6 +9,8 @@ usage: check_glass_cost.py SPHDEM SOURCE_DIR"""
 import subprocess
 import sys
 
+from timeouts import scaled  # the tests' own module (tests/timeouts.py)
+
 if len(sys.argv) != 3 or sys.argv[1] in ("-h", "--help"):
     print(__doc__)
     sys.exit(0 if len(sys.argv) == 2 else 2)
@@ -21,7 +23,7 @@ def run(*sets):
     args = [sphdem, "check", case]
     for s in sets:
         args += ["--set", s]
-    p = subprocess.run(args, capture_output=True, text=True, timeout=300)
+    p = subprocess.run(args, capture_output=True, text=True, timeout=scaled(300))
     return p.returncode, p.stdout, p.stderr
 
 

@@ -28,6 +28,8 @@ import subprocess
 import sys
 import time
 
+from timeouts import scaled  # the tests' own module (tests/timeouts.py)
+
 if len(sys.argv) < 6 or sys.argv[1] in ("-h", "--help"):
     print(__doc__)
     sys.exit(0 if len(sys.argv) == 2 else 2)
@@ -49,10 +51,11 @@ def run(args, ranks=None, timeout=120):
     cmd = [exe, *args] if ranks is None else [mpiexec, "-n", str(ranks), *mpi_flags, exe, *args]
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     t0 = time.monotonic()
+    timeout = scaled(timeout)
     try:
         p = subprocess.run(cmd, capture_output=True, cwd=work, timeout=timeout, env=env)
     except subprocess.TimeoutExpired:
-        return None, "", f"(no end within {timeout} s)", time.monotonic() - t0
+        return None, "", f"(no end within {timeout:.0f} s)", time.monotonic() - t0
     # Bytes that are not UTF-8 become U+FFFD: not printable, counted below.
     return (p.returncode, p.stdout.decode(errors="replace"), p.stderr.decode(errors="replace"),
             time.monotonic() - t0)
@@ -78,7 +81,7 @@ if scenario == "size":
     fine = ["--set", "numerics.spacing=1e-6"]
     code, out, err, seconds = run(["check", plate, *fine])
     expect(code == 2 and "--set: key 'numerics.spacing': the case needs about" in err and
-           "resin" in err and seconds < 20,
+           "resin" in err and seconds < scaled(20),
            f"check at spacing 1e-6 refused in {seconds:.1f} s: exit {code}, {err.strip()}")
     code, out, err, seconds = run(["run", plate, "-o", "run_out", *fine])
     expect(code == 2 and "the case needs about" in err and not os.path.exists(

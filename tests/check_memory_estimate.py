@@ -21,6 +21,8 @@ import shutil
 import subprocess
 import sys
 
+from timeouts import scaled  # the tests' own module (tests/timeouts.py)
+
 if len(sys.argv) != 4 or sys.argv[1] in ("-h", "--help"):
     print(__doc__)
     sys.exit(0 if len(sys.argv) == 2 else 2)
@@ -40,8 +42,8 @@ def expect(cond, what):
 
 def run(*args):
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    p = subprocess.run([exe, "check", plate, *args], capture_output=True, cwd=work, timeout=120,
-                       env=env)
+    p = subprocess.run([exe, "check", plate, *args], capture_output=True, cwd=work,
+                       timeout=scaled(120), env=env)
     return p.returncode, p.stdout.decode(errors="replace"), p.stderr.decode(errors="replace")
 
 

@@ -25,6 +25,8 @@ import tempfile
 
 import numpy as np
 
+from timeouts import scaled  # the tests' own module (tests/timeouts.py)
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 failures = []
 
@@ -36,7 +38,7 @@ def check(ok, message):
 
 
 def run(cmd):
-    r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=scaled(600))
     return r
 
 

@@ -13,6 +13,8 @@ import shutil
 import subprocess
 import sys
 
+from timeouts import scaled  # the tests' own module (tests/timeouts.py)
+
 if len(sys.argv) != 5 or sys.argv[1] in ("-h", "--help"):
     print(__doc__)
     sys.exit(0 if len(sys.argv) == 2 else 2)
@@ -32,7 +34,7 @@ COLUMNS = (["mode", "ranks", "spacing", "resin", "wall", "fibers", "dem", "parti
 
 def run(*args):
     p = subprocess.run([exe, "scaling", *args], capture_output=True, text=True, cwd=work,
-                       timeout=600)
+                       timeout=scaled(600))
     return p.returncode, p.stdout, p.stderr
 
 
@@ -97,7 +99,7 @@ if weak:
     png = os.path.join(work, "weak.png")
     p = subprocess.run([sys.executable, os.path.join(src, "tools", "plot_scaling.py"),
                         os.path.join(work, "weak", "scaling.csv"), "-o", png],
-                       capture_output=True, text=True, timeout=120)
+                       capture_output=True, text=True, timeout=scaled(120))
     expect(p.returncode == 0 and os.path.getsize(png) > 1000,
            "plot_scaling.py draws the study: " + p.stdout + p.stderr)
 
@@ -136,7 +138,7 @@ for name in ("slurm", "pbs"):
     out_dir = os.path.join(work, name)
     p = subprocess.run([os.path.join(src, "jobscripts", "scaling_%s.sh" % name), case, out_dir,
                         "1,2", "3", "--weak"], capture_output=True, text=True, env=env, cwd=work,
-                       timeout=600)
+                       timeout=scaled(600))
     rows = []
     if os.path.exists(os.path.join(out_dir, "scaling.csv")):
         rows = list(csv.DictReader(open(os.path.join(out_dir, "scaling.csv"))))
@@ -146,7 +148,7 @@ for name in ("slurm", "pbs"):
            (name, p.stdout, p.stderr))
 p = subprocess.run([os.path.join(src, "jobscripts", "scaling_slurm.sh"), case,
                     os.path.join(work, "slurm_bad"), "2,1", "3"], capture_output=True, text=True,
-                   env=env, cwd=work, timeout=60)
+                   env=env, cwd=work, timeout=scaled(60))
 expect(p.returncode == 2 and "increasing" in p.stderr and
        not os.path.exists(os.path.join(work, "slurm_bad", "jobs")),
        "scaling_slurm.sh: bad rank list, nothing submitted: " + p.stderr.strip())

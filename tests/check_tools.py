@@ -23,6 +23,8 @@ import unittest
 import h5py
 import numpy as np
 
+from timeouts import scaled  # the tests' own module (tests/timeouts.py)
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TOOLS = os.path.join(ROOT, "tools")
 sys.path.insert(0, TOOLS)
@@ -224,7 +226,7 @@ class CaseFileTest(unittest.TestCase):
 
 def run_tool(name, *args, cwd=None):
     return subprocess.run([sys.executable, os.path.join(TOOLS, name)] + [str(a) for a in args],
-                          capture_output=True, text=True, cwd=cwd, timeout=120)
+                          capture_output=True, text=True, cwd=cwd, timeout=scaled(120))
 
 
 def read_csv(path):

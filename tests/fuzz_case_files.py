@@ -7,7 +7,8 @@ the same files on every machine): keys deleted, types swapped, extreme
 numbers (1e300, -1, 0, nan, inf, ...), wrong nesting, unknown keys, binary
 junk, duplicated keys, huge lists, a second YAML document, truncation, deep
 nesting, long strings; one to three mutations each. Runs `sphdem check` on
-each, JOBS at a time, with a timeout. Each must end with
+each, JOBS at a time, with a timeout (SECONDS times SPHDEM_TEST_TIMEOUT_SCALE,
+tests/timeouts.py). Each must end with
 
   exit 0  and "is valid" on stdout, or
   exit 2  and "sphdem: error: FILE:LINE: ..." on stderr (LINE >= 1),
@@ -31,6 +32,8 @@ import sys
 import time
 
 import yaml
+
+from timeouts import scaled  # the tests' own module (tests/timeouts.py)
 
 # libyaml's C loader and dumper when present (the pure-Python ones take
 # seconds for a list of 10000 items).
@@ -267,7 +270,8 @@ def main():
     t0 = time.monotonic()
     failures, outcomes = [], {}
     with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
-        futures = {pool.submit(run_check, a.sphdem, c[0], a.timeout, env): c for c in cases}
+        futures = {pool.submit(run_check, a.sphdem, c[0], scaled(a.timeout), env): c
+                   for c in cases}
         for fut in concurrent.futures.as_completed(futures):
             path, base, names = futures[fut]
             proc = fut.result()
