@@ -23,7 +23,9 @@ struct Channel {
   double width = 0, dp = 0, speed = 0;  // W, the spacing, the piston's U
   std::vector<double> t, tip, contact;  // the samples: the tip, the wall contact (mean of both)
   std::vector<Row> rows;                // every resin particle at the end (rank 0)
-  std::vector<std::int64_t> tracers;    // centre-line particles at the initial front
+  std::vector<std::int64_t> tracers;    // the core's particles at the initial front
+  std::vector<Row> start;               // every resin particle at the start (rank 0)
+  double front = 0;                     // the initial front: the largest x of the resin
 };
 
 // Runs the channel case on comm to end_time, sampling the front every
@@ -41,7 +43,8 @@ inline Channel run_channel(const Comm& comm, double end_time, double from, doubl
   ch.width = c.mold.shapes[0].hi[1] - c.mold.shapes[0].lo[1];
   ch.speed = c.moving_walls[0].velocity.velocity[0][0];
   const double centre = 0.5 * ch.width;
-  {  // the tracers: the two centre rows, in the two columns of the initial front
+  {  // the tracers: the core's rows (within W/4 of the centre line), in the
+     // two columns of the initial front
     const SphParticles<2>& ps = sim.particles();
     double front = -1e300;
     for (std::size_t i = 0; i < ps.n_owned; ++i)
@@ -49,10 +52,16 @@ inline Channel run_channel(const Comm& comm, double end_time, double from, doubl
     front = comm.max(front);
     std::vector<Row> mine;
     for (std::size_t i = 0; i < ps.n_owned; ++i)
-      if (ps.kind[i] == Kind::Fluid && std::abs(ps.x[i][1] - centre) < ch.dp &&
+      if (ps.kind[i] == Kind::Fluid && std::abs(ps.x[i][1] - centre) < 0.25 * ch.width &&
           ps.x[i][0] > front - 1.5 * ch.dp)
         mine.push_back({ps.gid[i], {}});
     for (const Row& r : testing_mpi::gather_rows(comm, mine)) ch.tracers.push_back(r.gid);
+    ch.front = front;
+    mine.clear();
+    for (std::size_t i = 0; i < ps.n_owned; ++i)
+      if (ps.kind[i] == Kind::Fluid)
+        mine.push_back({ps.gid[i], {ps.x[i][0], ps.x[i][1], ps.v[i][0], ps.v[i][1]}});
+    ch.start = testing_mpi::gather_rows(comm, mine);
   }
   double next = from;
   while (sim.time() < end_time * (1 - 1e-12)) {
