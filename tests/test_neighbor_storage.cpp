@@ -7,7 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "sphdem/neighbor/neighbor.hpp"
@@ -137,6 +139,57 @@ TEST(NeighborStorage, ManyFarListsAmongNarrowOnes) {
   for (std::size_t i = 40000; i < ps.n_owned; ++i) rows.push_back(i);
   for (std::size_t i = 0; i < 200; i += 4) rows.push_back(i);
   expect_rows(ps, mixed, rows);
+}
+
+// Two images of one particle (a period shorter than two cut-offs: the same
+// gid twice in a list) are ordered by position, not by index: the later
+// index sits first here. With every gid below 2^32 the build sorts packed
+// 64-bit keys and orders such ties afterwards; with a larger gid it sorts
+// (gid, position) directly; both give the brute force's order.
+TEST(NeighborStorage, ImagesOfOneParticleAreOrderedByPosition) {
+  for (const std::int64_t base : {std::int64_t{0}, std::int64_t{1} << 40}) {
+    SphParticles<2> ps;
+    add(ps, base + 5, Kind::Fluid, Vec<2>(0.0, 0.0));
+    add(ps, base + 3, Kind::Fluid, Vec<2>(0.3, 0.1));
+    add(ps, base + 9, Kind::Fluid, Vec<2>(-0.2, 0.4));
+    ps.resize(6);  // ghosts: two images of gid base + 7 and one of base + 3
+    const std::array<std::pair<std::int64_t, Vec<2>>, 3> ghosts{{{base + 7, Vec<2>(0.5, 0.2)},
+                                                                 {base + 7, Vec<2>(-0.6, -0.1)},
+                                                                 {base + 3, Vec<2>(0.1, -0.7)}}};
+    for (std::size_t g = 0; g < ghosts.size(); ++g) {
+      ps.gid[3 + g] = ghosts[g].first;
+      ps.kind[3 + g] = Kind::Fluid;
+      ps.x[3 + g] = ghosts[g].second;
+    }
+    NeighborList<2> nl(1.0, 0.0);
+    nl.build(ps);
+    expect_rows(ps, nl, {0, 1, 2});
+    // Particle 0 lists gid 3 (the image at x = 0.1 before the owned one at
+    // 0.3), 7 (the image at x = -0.6 before the one at 0.5) and 9.
+    EXPECT_EQ(listed(nl, 0), (std::vector<std::int32_t>{5, 1, 4, 3, 2}));
+  }
+}
+
+// The random cloud with gids past 32 bits: the build's other sort.
+TEST(NeighborStorage, GidsPast32BitsMatchBruteForce) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 10.0);
+  SphParticles<2> ps;
+  const std::int64_t base = std::int64_t{3} << 33;
+  for (int k = 0; k < 600; ++k)
+    add(ps, base - 300 + k, k % 5 == 0 ? Kind::Wall : Kind::Fluid, {u(rng), u(rng)});
+  ps.resize(650);
+  for (std::size_t g = 600; g < 650; ++g) {
+    ps.gid[g] = base - 300 + static_cast<std::int64_t>(g % 2 == 0 ? g - 600 : g);
+    ps.kind[g] = g % 3 == 0 ? Kind::Wall : Kind::Fluid;
+    ps.x[g] = Vec<2>(u(rng), u(rng));
+  }
+  sort_by_cell<2>(ps, 1.2);
+  NeighborList<2> nl(1.0, 0.2);
+  nl.build(ps);
+  std::vector<std::size_t> all(ps.n_owned);
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  expect_rows(ps, nl, all);
 }
 
 }  // namespace

@@ -180,9 +180,13 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
   resin_drag_rate = 0;
   Vec<D> total = Vec<D>::Zero();
   if (dem.size() == 0) return total;
-  // The drag pass's pairs (rebuilt only if the particles changed since).
-  update_coupling_pairs<D>(st.pairs, sph, dem, support, st.keep_pairs ? st.skin : 0.0,
-                           st.generation);
+  // The drag pass's pairs: it checked them at these positions, so only a
+  // reaction without that pass (other particles) searches; no second walk
+  // over every resin position (issue 19).
+  if (!st.pairs.built_for(sph, dem) || st.pairs.generation != st.generation ||
+      st.pairs.support != support)
+    update_coupling_pairs<D>(st.pairs, sph, dem, support, st.keep_pairs ? st.skin : 0.0,
+                             st.generation);
   const CouplingPairs<D>& pairs = st.pairs;
   // The owned resin particles near the fibers, by slot: the ones that receive.
   const std::size_t n_slots = pairs.slot_resin.size();

@@ -106,6 +106,48 @@ bool fits_16(std::int32_t offset) {
   return offset >= -32767 && offset <= 32767;
 }
 
+// The largest gid a packed candidate key holds (the upper 32 bits).
+constexpr std::int64_t kMaxPackedGid = std::numeric_limits<std::uint32_t>::max();
+
+// Orders a list by gid; two periodic images of one particle share a gid (a
+// period shorter than two cut-offs): their position breaks the tie, so the
+// order never depends on where the images sit in memory.
+template <int D>
+bool image_before(const SphParticles<D>& ps, std::int32_t a, std::int32_t b) {
+  return std::lexicographical_compare(ps.x[a].begin(), ps.x[a].end(), ps.x[b].begin(),
+                                      ps.x[b].end());
+}
+
+// The m keys (gid << 32 | index) in gid order: an integer sort, then each
+// run of one gid (periodic images) by position.
+template <int D>
+void sort_packed(const SphParticles<D>& ps, std::uint64_t* key, std::size_t m) {
+  std::sort(key, key + m);
+  for (std::size_t a = 0; a + 1 < m;) {
+    std::size_t b = a + 1;
+    while (b < m && key[b] >> 32 == key[a] >> 32) ++b;
+    if (b - a > 1) {
+      std::sort(key + a, key + b, [&](std::uint64_t p, std::uint64_t q) {
+        return image_before<D>(ps, static_cast<std::int32_t>(p & 0xffffffffU),
+                               static_cast<std::int32_t>(q & 0xffffffffU));
+      });
+    }
+    a = b;
+  }
+}
+
+// The same order when some gid does not fit 32 bits: the keys' indices
+// sorted by (gid, position) read from the particles.
+template <int D>
+void sort_unpacked(const SphParticles<D>& ps, std::uint64_t* key, std::size_t m) {
+  std::sort(key, key + m, [&](std::uint64_t p, std::uint64_t q) {
+    const auto a = static_cast<std::int32_t>(p & 0xffffffffU);
+    const auto b = static_cast<std::int32_t>(q & 0xffffffffU);
+    if (ps.gid[a] != ps.gid[b]) return ps.gid[a] < ps.gid[b];
+    return image_before<D>(ps, a, b);
+  });
+}
+
 }  // namespace
 
 template <int D>
@@ -121,11 +163,14 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
   const std::int32_t* cell_items = scratch + n;
   bin_resin_first<D>(g, ps, cell_start_, cell_resin_end_, scratch, scratch + n);
 
-  struct IdIndex {
-    std::int64_t id;
-    std::int32_t index;
-  };
-  thread_local std::vector<IdIndex> keyed;
+  // Each candidate as one 64-bit key, gid << 32 | index, when every gid
+  // fits 32 bits: a plain integer sort gives the gid order (the index
+  // breaks no tie that matters: ties are periodic images, ordered by
+  // position afterwards). Otherwise the (gid, index) pairs with the same
+  // comparator (sort_unpacked).
+  const bool packed = std::all_of(ps.gid.begin(), ps.gid.begin() + static_cast<std::ptrdiff_t>(n),
+                                  [](std::int64_t id) { return id >= 0 && id <= kMaxPackedGid; });
+  thread_local std::vector<std::uint64_t> keys;
   // The storage of the last build to start with (3D lists rarely fit 16
   // bits: no 16-bit array and its conversion at every build there).
   const bool wide_first = all_wide_;
@@ -149,9 +194,19 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
       lo[k] = std::max(0L, c[k] - kReach);
       hi[k] = std::min(g.n[k] - 1, c[k] + kReach);
     }
-    // The ids sit beside the indices while sorting (no gather of ps.gid
-    // per comparison: 3D lists are about 80 long).
-    keyed.clear();
+    std::size_t candidates = 0;
+    for (long cz = lo[2]; cz <= hi[2]; ++cz)
+      for (long cy = lo[1]; cy <= hi[1]; ++cy) {
+        const long row = (cz * g.n[1] + cy) * g.n[0];
+        for (long cell = row + lo[0]; cell <= row + hi[0]; ++cell)
+          candidates += static_cast<std::size_t>(
+              (wall_i ? cell_resin_end_[cell] : cell_start_[cell + 1]) - cell_start_[cell]);
+      }
+    if (keys.size() < candidates) keys.resize(candidates);
+    // Every candidate is written and kept when inside the cut-off: no
+    // branch on the distance test, which is taken about a third of the time.
+    std::uint64_t* key = keys.data();
+    std::size_t m = 0;
     for (long cz = lo[2]; cz <= hi[2]; ++cz)
       for (long cy = lo[1]; cy <= hi[1]; ++cy)
         for (long cx = lo[0]; cx <= hi[0]; ++cx) {
@@ -160,33 +215,32 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
           const std::int32_t last = wall_i ? resin_end : cell_start_[cell + 1];
           for (std::int32_t s = cell_start_[cell]; s < last; ++s) {
             const std::int32_t j = cell_items[s];
-            if (static_cast<std::size_t>(j) == i) continue;
-            if ((xi - ps.x[j]).squaredNorm() < rc2) keyed.push_back({ps.gid[j], j});
+            const bool near = (xi - ps.x[j]).squaredNorm() < rc2;
+            key[m] = static_cast<std::uint64_t>(ps.gid[j]) << 32 | static_cast<std::uint32_t>(j);
+            m += static_cast<std::size_t>(near & (static_cast<std::size_t>(j) != i));
           }
         }
-    // Two periodic images of one particle share a gid (a period shorter
-    // than two cut-offs): their position breaks the tie, so the order never
-    // depends on where the images sit in memory.
-    std::sort(keyed.begin(), keyed.end(), [&](const IdIndex& a, const IdIndex& b) {
-      if (a.id != b.id) return a.id < b.id;
-      return std::lexicographical_compare(ps.x[a.index].begin(), ps.x[a.index].end(),
-                                          ps.x[b.index].begin(), ps.x[b.index].end());
-    });
+    if (packed)
+      sort_packed<D>(ps, key, m);
+    else
+      sort_unpacked<D>(ps, key, m);
     const auto own = static_cast<std::int32_t>(i);
-    const bool fits = std::all_of(keyed.begin(), keyed.end(),
-                                  [&](const IdIndex& k) { return fits_16(k.index - own); });
+    const auto index = [](std::uint64_t k) { return static_cast<std::int32_t>(k & 0xffffffffU); };
+    const bool fits =
+        std::all_of(key, key + m, [&](std::uint64_t k) { return fits_16(index(k) - own); });
     if (wide_first || !fits) {
       if (!wide_first) {  // its 16-bit slots only say "kept wide"
-        narrow_.resize(narrow_.size() + keyed.size(), kWideRow);
+        narrow_.resize(narrow_.size() + m, kWideRow);
         wide_rows_.push_back(static_cast<std::uint32_t>(i));
         wide_starts_.push_back(static_cast<std::uint32_t>(wide_.size()));
       }
-      for (const IdIndex& k : keyed) wide_.push_back(k.index);
+      for (std::size_t k = 0; k < m; ++k) wide_.push_back(index(key[k]));
     } else {
-      for (const IdIndex& k : keyed) narrow_.push_back(static_cast<std::int16_t>(k.index - own));
+      for (std::size_t k = 0; k < m; ++k)
+        narrow_.push_back(static_cast<std::int16_t>(index(key[k]) - own));
     }
-    if (!fits) far_pairs += keyed.size();
-    pairs += keyed.size();
+    if (!fits) far_pairs += m;
+    pairs += m;
     if (pairs > std::numeric_limits<std::uint32_t>::max())
       throw std::length_error("sphdem: more than 2^32 neighbour pairs on one rank");
     offset_[i + 1] = static_cast<std::uint32_t>(pairs);
