@@ -101,6 +101,11 @@ void bin_resin_first(const Grid<D>& g, const SphParticles<D>& ps, std::vector<st
     if (ps.kind[i] == Kind::Wall) items[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
 }
 
+// The bound of a float position's rounding: 2^-23 of its coordinates'
+// magnitudes, and the smallest float per coordinate (needs_rebuild).
+constexpr double kRoundingRelative = 0x1p-23;
+constexpr double kRoundingTiny = std::numeric_limits<float>::denorm_min();
+
 // A position rounded to float; beyond float's range, an infinity (the
 // cast would be undefined), which the rebuild test answers with a rebuild.
 float to_float(double v) {
@@ -207,8 +212,17 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
     store_all_wide();
   all_wide_ = all_wide;
   resize_field(x_at_build_, n_own);
-  for (std::size_t i = 0; i < n_own; ++i)
-    for (int k = 0; k < D; ++k) x_at_build_[i][k] = to_float(ps.x[i][k]);
+  double largest = 0.0;  // of the bounds' sums |f_x| + |f_y| (+ |f_z|); a NaN stays out
+  for (std::size_t i = 0; i < n_own; ++i) {
+    double size = 0.0;
+    for (int k = 0; k < D; ++k) {
+      x_at_build_[i][k] = to_float(ps.x[i][k]);
+      size += std::abs(static_cast<double>(x_at_build_[i][k]));
+    }
+    if (size > largest) largest = size;
+  }
+  const double quick = 0.5 * skin_ - (kRoundingRelative * largest + D * kRoundingTiny);
+  quick_limit2_ = quick > 0.0 ? quick * quick : -1.0;
   ++builds_;
 }
 
@@ -260,21 +274,23 @@ void NeighborList<D>::store_mixed() {
 // (round to nearest), so within 2^-23 |f| with room for this test's own
 // rounding, or within the smallest float near zero: the particle has moved
 // at most |x_now - f| + that bound since the build.
+// A move under the build's quick limit is under every particle's own
+// limit: only the others compute theirs (the verdict is the per-particle
+// one either way).
 template <int D>
 bool NeighborList<D>::needs_rebuild(const SphParticles<D>& ps) const {
   if (x_at_build_.size() != ps.n_owned) return true;
-  constexpr double kRelative = 0x1p-23;
-  constexpr double kTiny = std::numeric_limits<float>::denorm_min();
   const double half_skin = 0.5 * skin_;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    double d2 = 0.0, size = 0.0;
+    double d2 = 0.0;
     for (int k = 0; k < D; ++k) {
-      const double f = x_at_build_[i][k];
-      const double d = ps.x[i][k] - f;
+      const double d = ps.x[i][k] - static_cast<double>(x_at_build_[i][k]);
       d2 += d * d;
-      size += std::abs(f);
     }
-    const double limit = half_skin - (kRelative * size + D * kTiny);
+    if (d2 <= quick_limit2_) continue;
+    double size = 0.0;
+    for (int k = 0; k < D; ++k) size += std::abs(static_cast<double>(x_at_build_[i][k]));
+    const double limit = half_skin - (kRoundingRelative * size + D * kRoundingTiny);
     if (limit <= 0.0 || d2 > limit * limit) return true;
   }
   return false;

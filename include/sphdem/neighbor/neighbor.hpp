@@ -98,6 +98,9 @@ class NeighborList {
   std::vector<std::uint32_t> wide_rows_, wide_starts_;  // those lists' particles and starts
   bool all_wide_ = false;
   std::vector<std::array<float, D>> x_at_build_;
+  // Below this squared move no particle of the build needs the per-particle
+  // bound (the largest bound of the build taken off the half skin; -1: none).
+  double quick_limit2_ = -1.0;
   std::int64_t builds_ = 0;
   // The cell grid's starts, kept to avoid reallocations (the binning's
   // per-particle scratch is shared with sort_by_cell: neighbor_list.cpp).
