@@ -101,6 +101,20 @@ void bin_resin_first(const Grid<D>& g, const SphParticles<D>& ps, std::vector<st
     if (ps.kind[i] == Kind::Wall) items[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
 }
 
+// The bound of a float position's rounding: 2^-23 of its coordinates'
+// magnitudes, and the smallest float per coordinate (needs_rebuild).
+constexpr double kRoundingRelative = 0x1p-23;
+constexpr double kRoundingTiny = std::numeric_limits<float>::denorm_min();
+
+// A position rounded to float; beyond float's range, an infinity (the
+// cast would be undefined), which the rebuild test answers with a rebuild.
+float to_float(double v) {
+  constexpr double kMax = std::numeric_limits<float>::max();
+  if (v > kMax) return std::numeric_limits<float>::infinity();
+  if (v < -kMax) return -std::numeric_limits<float>::infinity();
+  return static_cast<float>(v);
+}
+
 // An offset a 16-bit list holds (kWideRow, -32768, marks a wide list).
 bool fits_16(std::int32_t offset) {
   return offset >= -32767 && offset <= 32767;
@@ -251,7 +265,18 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
   else if (!wide_first && all_wide)
     store_all_wide();
   all_wide_ = all_wide;
-  x_at_build_.assign(ps.x.begin(), ps.x.begin() + static_cast<std::ptrdiff_t>(n_own));
+  resize_field(x_at_build_, n_own);
+  double largest = 0.0;  // of the bounds' sums |f_x| + |f_y| (+ |f_z|); a NaN stays out
+  for (std::size_t i = 0; i < n_own; ++i) {
+    double size = 0.0;
+    for (int k = 0; k < D; ++k) {
+      x_at_build_[i][k] = to_float(ps.x[i][k]);
+      size += std::abs(static_cast<double>(x_at_build_[i][k]));
+    }
+    if (size > largest) largest = size;
+  }
+  const double quick = 0.5 * skin_ - (kRoundingRelative * largest + D * kRoundingTiny);
+  quick_limit2_ = quick > 0.0 ? quick * quick : -1.0;
   ++builds_;
 }
 
@@ -299,12 +324,28 @@ void NeighborList<D>::store_mixed() {
   wide_.swap(far);
 }
 
+// The stored position f of a coordinate x is within 2^-24 |x| of it
+// (round to nearest), so within 2^-23 |f| with room for this test's own
+// rounding, or within the smallest float near zero: the particle has moved
+// at most |x_now - f| + that bound since the build.
+// A move under the build's quick limit is under every particle's own
+// limit: only the others compute theirs (the verdict is the per-particle
+// one either way).
 template <int D>
 bool NeighborList<D>::needs_rebuild(const SphParticles<D>& ps) const {
   if (x_at_build_.size() != ps.n_owned) return true;
-  const double limit2 = 0.25 * skin_ * skin_;
+  const double half_skin = 0.5 * skin_;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    if ((ps.x[i] - x_at_build_[i]).squaredNorm() > limit2) return true;
+    double d2 = 0.0;
+    for (int k = 0; k < D; ++k) {
+      const double d = ps.x[i][k] - static_cast<double>(x_at_build_[i][k]);
+      d2 += d * d;
+    }
+    if (d2 <= quick_limit2_) continue;
+    double size = 0.0;
+    for (int k = 0; k < D; ++k) size += std::abs(static_cast<double>(x_at_build_[i][k]));
+    const double limit = half_skin - (kRoundingRelative * size + D * kRoundingTiny);
+    if (limit <= 0.0 || d2 > limit * limit) return true;
   }
   return false;
 }

@@ -36,10 +36,23 @@ namespace {
 // checks at every rebuild of its lists as well).
 constexpr std::int64_t kHealthEvery = 100;
 
-// The set-up's temporaries (fields grown a particle at a time, the case's
-// geometry) leave freed pages that glibc keeps resident: returned to the
-// system once the run's own memory is in place (docs/performance.md, "16-bit
-// neighbour lists").
+// Large blocks (a field, a list, the records: 128 KiB and up) each in
+// their own mapping, returned to the system when freed. glibc's default
+// raises that threshold to the largest block freed so far (up to 32 MiB),
+// after which the set-up's freed arrays (the fill's, every field moved by
+// the first ghost append) stay resident in the heap under the run's own
+// memory: about 30 bytes per particle at the peak (docs/performance.md,
+// "The peak is the steady state"). Fields, lists and records keep their
+// capacity across rebuilds, so the run maps no block per step.
+void return_large_blocks_when_freed() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+#endif
+}
+
+// The set-up's small temporaries (the case's geometry) leave freed pages
+// that glibc keeps resident: returned to the system once the run's own
+// memory is in place (docs/performance.md, "16-bit neighbour lists").
 void release_freed_memory() {
 #if defined(__GLIBC__)
   malloc_trim(0);
@@ -55,6 +68,7 @@ Run<D>::Run(const Case& c, const Comm& comm, RunOptions opt)
       opt_(std::move(opt)),
       walls_(make_wall_motions(c)),
       ctx_{case_, comm_, opt_, clock_, timers_, walls_, modules_} {
+  return_large_blocks_when_freed();
   if (opt_.output_dir.empty()) opt_.output_dir = c.output.directory;
   if (!c.fill.empty()) {
     auto resin = std::make_unique<ResinModule<D>>(ctx_);

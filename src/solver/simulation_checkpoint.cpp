@@ -60,12 +60,14 @@ void ResinModule<D>::write_checkpoint(CheckpointWriter& w) {
   w.attribute("wall_scale", scale);
   w.attribute("wall_face_pressure", face);
   std::vector<CheckpointColumn> cols = checkpoint_columns(ps_);
-  const std::vector<Vec<D>>& xb = nl_.positions_at_build();
   CheckpointColumn build{"x_at_build", ColumnType::F64, D, sizeof(Vec<D>), {}};
   build.data.resize(ps_.n_owned * sizeof(Vec<D>));
-  if (xb.size() != ps_.n_owned)
+  if (nl_.positions_at_build() != ps_.n_owned)
     throw std::logic_error("sphdem: neighbor list and particles disagree at a checkpoint");
-  if (ps_.n_owned > 0) std::memcpy(build.data.data(), xb.data(), build.data.size());
+  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
+    const Vec<D> xb = nl_.position_at_build(i);  // a float's value: exact as a double
+    std::memcpy(build.data.data() + i * sizeof(Vec<D>), xb.data(), sizeof(Vec<D>));
+  }
   cols.push_back(std::move(build));
   if (sp_.implicit_viscosity) {  // the next solve's first guess
     CheckpointColumn c{kViscousGuessColumn, ColumnType::F64, D, sizeof(Vec<D>), {}};

@@ -4,6 +4,7 @@
 // Lists are kept for owned particles only and each list is sorted by global
 // id, so the sums of the gather formulation run in an order that does not
 // depend on the particle layout or the rank count.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -44,8 +45,12 @@ class NeighborList {
   // list only fluid neighbors (what the wall extrapolation needs).
   void build(const SphParticles<D>& ps);
 
-  // True once some owned particle has moved more than half the skin since
-  // the last build (a local answer; the solver reduces it over ranks).
+  // True once some owned particle may have moved more than half the skin
+  // since the last build (a local answer; the solver reduces it over
+  // ranks). Conservative: the rounding of the stored positions comes off
+  // the half skin (positions_at_build), so no pair enters the support
+  // unlisted; a particle's verdict reads only its own values, the same at
+  // every rank count.
   bool needs_rebuild(const SphParticles<D>& ps) const;
 
   std::size_t begin(std::size_t i) const { return offset_[i]; }
@@ -67,9 +72,16 @@ class NeighborList {
   double cutoff() const { return support_ + skin_; }
   double skin() const { return skin_; }
   std::int64_t builds() const { return builds_; }
-  // Owned positions at the last build (what needs_rebuild compares with):
-  // part of a checkpoint, so a restart rebuilds where the run did.
-  const std::vector<Vec<D>>& positions_at_build() const { return x_at_build_; }
+  // Owned particle i's position at the last build, rounded to float (what
+  // needs_rebuild compares with; 8 bytes a particle in 2D, not 16): part of
+  // a checkpoint, so a restart rebuilds there and its rebuilds fall on the
+  // run's steps.
+  Vec<D> position_at_build(std::size_t i) const {
+    Vec<D> x;
+    for (int k = 0; k < D; ++k) x[k] = static_cast<double>(x_at_build_[i][k]);
+    return x;
+  }
+  std::size_t positions_at_build() const { return x_at_build_.size(); }
 
  private:
   double support_, skin_;
@@ -85,7 +97,10 @@ class NeighborList {
   std::vector<std::int32_t> wide_;     // the lists that do not fit (all of them if all_wide_)
   std::vector<std::uint32_t> wide_rows_, wide_starts_;  // those lists' particles and starts
   bool all_wide_ = false;
-  std::vector<Vec<D>> x_at_build_;
+  std::vector<std::array<float, D>> x_at_build_;
+  // Below this squared move no particle of the build needs the per-particle
+  // bound (the largest bound of the build taken off the half skin; -1: none).
+  double quick_limit2_ = -1.0;
   std::int64_t builds_ = 0;
   // The cell grid's starts, kept to avoid reallocations (the binning's
   // per-particle scratch is shared with sort_by_cell: neighbor_list.cpp).
