@@ -59,23 +59,37 @@ SphParticles<2> lattice() {
   return ps;
 }
 
-TEST(NeighborStorage, RandomCloudWithGhostsMatchesBruteForce) {
-  std::mt19937 rng(7);
+// 600 owned particles (every fifth a wall) at random in a 10 x 10 box and
+// 50 ghosts, half of them images of owned particles (the same gid); gids
+// from `first`; sorted by cell as a rebuild does.
+SphParticles<2> random_cloud(unsigned seed, std::int64_t first) {
+  std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 10.0);
   SphParticles<2> ps;
-  for (int k = 0; k < 600; ++k) add(ps, k, k % 5 == 0 ? Kind::Wall : Kind::Fluid, {u(rng), u(rng)});
-  ps.resize(650);  // ghosts, among them images of owned particles (the same gid)
+  for (int k = 0; k < 600; ++k)
+    add(ps, first + k, k % 5 == 0 ? Kind::Wall : Kind::Fluid, {u(rng), u(rng)});
+  ps.resize(650);
   for (std::size_t g = 600; g < 650; ++g) {
-    ps.gid[g] = static_cast<std::int64_t>(g % 2 == 0 ? g - 600 : g);
+    ps.gid[g] = first + static_cast<std::int64_t>(g % 2 == 0 ? g - 600 : g);
     ps.kind[g] = g % 3 == 0 ? Kind::Wall : Kind::Fluid;
     ps.x[g] = Vec<2>(u(rng), u(rng));
   }
   sort_by_cell<2>(ps, 1.2);
-  NeighborList<2> nl(1.0, 0.2);
-  nl.build(ps);
+  return ps;
+}
+
+// Every owned particle's row against brute force.
+void expect_all_rows(const SphParticles<2>& ps, const NeighborList<2>& nl) {
   std::vector<std::size_t> all(ps.n_owned);
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
   expect_rows(ps, nl, all);
+}
+
+TEST(NeighborStorage, RandomCloudWithGhostsMatchesBruteForce) {
+  const SphParticles<2> ps = random_cloud(7, 0);
+  NeighborList<2> nl(1.0, 0.2);
+  nl.build(ps);
+  expect_all_rows(ps, nl);
   EXPECT_EQ(nl.wide_pairs(), 0u);  // 650 particles: every offset fits
   EXPECT_FALSE(nl.all_wide());
 }
@@ -172,24 +186,11 @@ TEST(NeighborStorage, ImagesOfOneParticleAreOrderedByPosition) {
 
 // The random cloud with gids past 32 bits: the build's other sort.
 TEST(NeighborStorage, GidsPast32BitsMatchBruteForce) {
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(0.0, 10.0);
-  SphParticles<2> ps;
-  const std::int64_t base = std::int64_t{3} << 33;
-  for (int k = 0; k < 600; ++k)
-    add(ps, base - 300 + k, k % 5 == 0 ? Kind::Wall : Kind::Fluid, {u(rng), u(rng)});
-  ps.resize(650);
-  for (std::size_t g = 600; g < 650; ++g) {
-    ps.gid[g] = base - 300 + static_cast<std::int64_t>(g % 2 == 0 ? g - 600 : g);
-    ps.kind[g] = g % 3 == 0 ? Kind::Wall : Kind::Fluid;
-    ps.x[g] = Vec<2>(u(rng), u(rng));
-  }
-  sort_by_cell<2>(ps, 1.2);
+  // Gids around 3 * 2^33, all past 32 bits.
+  const SphParticles<2> ps = random_cloud(11, (std::int64_t{3} << 33) - 300);
   NeighborList<2> nl(1.0, 0.2);
   nl.build(ps);
-  std::vector<std::size_t> all(ps.n_owned);
-  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
-  expect_rows(ps, nl, all);
+  expect_all_rows(ps, nl);
 }
 
 }  // namespace
