@@ -1,20 +1,23 @@
 #!/bin/bash
-# User CPU per resin particle-step of a 3D coupled mold against the 2D
+# Cost per resin particle-step of a 3D coupled mold against the 2D
 # plate's, measured alternately in one script so that both see the same
-# machine load (docs/performance.md, "3D molds"). Each round runs, on one
-# rank: the 2D case for N2 steps and for 0 steps (set-up only), then the 3D
+# machine load (docs/performance.md, "3D molds"). Each round runs, on RANKS
+# ranks: the 2D case for N2 steps and for 0 steps (set-up only), then the 3D
 # case for N3 steps and for 0 steps; a case's cost is
-#   (user CPU of N steps - user CPU of 0 steps) / (resin particles x N)
-# with the resin count from the run's banner. Prints every round and the
-# median and range of the 3D / 2D ratio.
+#   (cost of N steps - cost of 0 steps) / (resin particles x N)
+# with the resin count from the run's banner; the cost is the user CPU on
+# one rank, and the wall time x RANKS (core-seconds, on a quiet machine:
+# waiting ranks poll) with more. Prints every round and the median and
+# range of the 3D / 2D ratio.
 #   tools/cost_3d_vs_2d.sh [SPHDEM] [ROUNDS]
 # Environment: CASE2 (default inputs/plate_fibers_3.8.yaml), CASE3 (default
 # inputs/plate_3d_fibers_coarse.yaml), SET3 (default
 # "numerics.spacing=5e-4": 72,000 resin particles, the size of issue 19's
-# 3D mold), N2 (default 400), N3 (default 40), OUT (scratch directory).
+# 3D mold), N2 (default 400), N3 (default 40), RANKS (default 1; more runs
+# under mpiexec -n RANKS), OUT (scratch directory).
 set -euo pipefail
 if [[ ${1:-} == -h || ${1:-} == --help ]]; then
-  sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
   exit 0
 fi
 SPHDEM=${1:-build/test/sphdem}
@@ -24,17 +27,28 @@ CASE3=${CASE3:-inputs/plate_3d_fibers_coarse.yaml}
 SET3=${SET3:-numerics.spacing=5e-4}
 N2=${N2:-400}
 N3=${N3:-40}
+RANKS=${RANKS:-1}
+if ! [[ $RANKS =~ ^[1-9][0-9]*$ ]]; then
+  echo "cost_3d_vs_2d.sh: RANKS must be a positive integer, got '$RANKS'" >&2
+  exit 2
+fi
+launch=()
+fmt="%U"
+if ((RANKS > 1)); then
+  launch=(mpiexec -n "$RANKS")
+  fmt="%e"
+fi
 OUT=${OUT:-$(mktemp -d)}
 mkdir -p "$OUT"
 
-# user CPU seconds and resin particles of one run: "USER RESIN"
+# cost in core-seconds and resin particles of one run: "COST RESIN"
 run() {
   local tag=$1 case_file=$2 steps=$3; shift 3
-  /usr/bin/time -f "%U" -o "$OUT/$tag.time" "$SPHDEM" run "$case_file" --steps "$steps" \
-    --overwrite -o "$OUT/$tag" "$@" > "$OUT/$tag.log"
+  /usr/bin/time -f "$fmt" -o "$OUT/$tag.time" "${launch[@]}" "$SPHDEM" run "$case_file" \
+    --steps "$steps" --overwrite -o "$OUT/$tag" "$@" > "$OUT/$tag.log"
   local resin
   resin=$(grep -o '[0-9]* resin' "$OUT/$tag.log" | head -1 | cut -d' ' -f1)
-  echo "$(tail -1 "$OUT/$tag.time") $resin"
+  echo "$(awk -v t="$(tail -1 "$OUT/$tag.time")" -v r="$RANKS" 'BEGIN{print t * r}') $resin"
 }
 
 ratios=()
