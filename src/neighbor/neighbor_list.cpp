@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "sphdem/core/errors.hpp"
 #include "sphdem/core/scratch.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
 
@@ -73,11 +74,13 @@ Grid<D> make_grid(const std::vector<Vec<D>>& x, std::size_t count, double cell) 
     }
     cells *= static_cast<double>(g.n[k]);
   }
-  // Cell indices are int32 (the binning's scratch).
+  // Cell indices are int32 (the binning's scratch). Particles spread over
+  // more: the run cannot continue (SimulationError, exit 3), as for a DEM
+  // particle flung far (include/sphdem/dem/cell_list.hpp).
   if (cells >= static_cast<double>(std::numeric_limits<std::int32_t>::max()))
-    throw std::length_error(fmt::format(
-        "sphdem: the neighbour search grid would take {:.3g} cells of {:g} m or wider (particles "
-        "spread far beyond the domain, e.g. some far from the others)",
+    throw SimulationError(fmt::format(
+        "SPH particles spread over {:.3g} neighbour-grid cells of {:g} m or wider, past 2^31 "
+        "(some particle far outside the domain: the resin blew up)",
         cells, cell));
   return g;
 }
