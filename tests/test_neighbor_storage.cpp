@@ -9,9 +9,11 @@
 #include <algorithm>
 #include <array>
 #include <random>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "sphdem/core/errors.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
 #include "sphdem/particles/particles.hpp"
 
@@ -191,6 +193,42 @@ TEST(NeighborStorage, GidsPast32BitsMatchBruteForce) {
   NeighborList<2> nl(1.0, 0.2);
   nl.build(ps);
   expect_all_rows(ps, nl);
+}
+
+// A particle two million cut-offs from the others (a runaway): the grid
+// takes at most 2^20 cells along that axis, each wider than the cut-off,
+// not 1.7 million of them; the sort by cell and the lists are still right.
+TEST(NeighborStorage, FarParticleCoarsensTheGridListsStayExact) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 10.0);
+  SphParticles<2> ps;
+  for (int k = 0; k < 400; ++k) add(ps, k, k % 5 == 0 ? Kind::Wall : Kind::Fluid, {u(rng), u(rng)});
+  add(ps, 400, Kind::Fluid, Vec<2>(2e6, 5.0));
+  add(ps, 401, Kind::Fluid, Vec<2>(2e6 - 0.5, 5.0));  // its one neighbour
+  sort_by_cell<2>(ps, 1.2);
+  NeighborList<2> nl(1.0, 0.2);
+  nl.build(ps);
+  expect_all_rows(ps, nl);
+  std::size_t far = 0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i)
+    if (ps.gid[i] >= 400) far += nl.end(i) - nl.begin(i);
+  EXPECT_EQ(far, 2u);  // the far pair lists each other
+}
+
+// Particles spread over 10^7 cut-offs along every axis of a 3D domain: no
+// grid of 2^60 cells (its count overflowed a long before), the solver's
+// error (exit 3).
+TEST(NeighborStorage, GridBeyondInt32CellsIsAClearError) {
+  SphParticles<3> ps;
+  ps.push_owned(0, Kind::Fluid, -1, 1.0, Vec<3>(0.0, 0.0, 0.0), Vec<3>::Zero(), 1000.0);
+  ps.push_owned(1, Kind::Fluid, -1, 1.0, Vec<3>(1e7, 1e7, 1e7), Vec<3>::Zero(), 1000.0);
+  NeighborList<3> nl(1.0, 0.2);
+  try {
+    nl.build(ps);
+    ADD_FAILURE() << "no error";
+  } catch (const SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("neighbour-grid cells"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -5,6 +5,9 @@
 #include <span>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
+#include "sphdem/core/errors.hpp"
 #include "sphdem/core/scratch.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
 
@@ -12,15 +15,26 @@ namespace sphdem {
 
 namespace {
 
+// The cell grid of the list build and the sort by cell: cells at least
+// `cell` wide. An axis whose extent would take more than kMaxCellsPerAxis
+// cells (a particle far from the others) takes that many wider ones, an
+// axis with a non-finite extent one cell: the cells around a particle
+// still cover the cut-off. Every double is clamped before its cast to long
+// (a cast out of long's range is undefined behaviour, and GCC's
+// -fsanitize=undefined does not report it).
+constexpr long kMaxCellsPerAxis = 1L << 20;
+
 template <int D>
 struct Grid {
   Vec<D> lo;
-  double inv_cell = 1;
+  std::array<double, 3> inv_cell{1, 1, 1};
   std::array<long, 3> n{1, 1, 1};
 
+  // A NaN coordinate goes to cell 0.
   long coord(const Vec<D>& x, int k) const {
-    const long c = static_cast<long>(std::floor((x[k] - lo[k]) * inv_cell));
-    return std::clamp(c, 0L, n[k] - 1);
+    const double c = std::floor((x[k] - lo[k]) * inv_cell[k]);
+    if (!(c > 0.0)) return 0;
+    return c < static_cast<double>(n[k] - 1) ? static_cast<long>(c) : n[k] - 1;
   }
   long index(const Vec<D>& x) const {
     long id = 0;
@@ -44,10 +58,30 @@ Grid<D> make_grid(const std::vector<Vec<D>>& x, std::size_t count, double cell) 
     g.lo.setZero();
     hi.setZero();
   }
-  g.inv_cell = 1.0 / cell;
+  double cells = 1.0;
   for (int k = 0; k < D; ++k) {
-    g.n[k] = std::max(1L, static_cast<long>(std::floor((hi[k] - g.lo[k]) * g.inv_cell)) + 1);
+    const double extent = hi[k] - g.lo[k];
+    g.inv_cell[k] = 1.0 / cell;
+    const double along = std::floor(extent * g.inv_cell[k]) + 1.0;
+    if (!std::isfinite(extent)) {
+      g.inv_cell[k] = 0.0;
+      g.n[k] = 1;
+    } else if (along > static_cast<double>(kMaxCellsPerAxis)) {
+      g.inv_cell[k] = static_cast<double>(kMaxCellsPerAxis - 1) / extent;
+      g.n[k] = kMaxCellsPerAxis;
+    } else {
+      g.n[k] = std::max(1L, static_cast<long>(along));
+    }
+    cells *= static_cast<double>(g.n[k]);
   }
+  // Cell indices are int32 (the binning's scratch). Particles spread over
+  // more: the run cannot continue (SimulationError, exit 3), as for a DEM
+  // particle flung far (include/sphdem/dem/cell_list.hpp).
+  if (cells >= static_cast<double>(std::numeric_limits<std::int32_t>::max()))
+    throw SimulationError(fmt::format(
+        "SPH particles spread over {:.3g} neighbour-grid cells of {:g} m or wider, past 2^31 "
+        "(some particle far outside the domain: the resin blew up)",
+        cells, cell));
   return g;
 }
 
