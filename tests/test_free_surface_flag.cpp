@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -21,6 +20,7 @@
 #include "sphdem/config/config.hpp"
 #include "sphdem/sph/fluid_rates.hpp"
 #include "sphdem/sph/sph.hpp"
+#include "same_particles.hpp"
 #include "validation_helpers.hpp"
 
 namespace sphdem {
@@ -147,21 +147,7 @@ void expect_same_run(const Case& lite_case, const Case& full_case, int steps) {
   const SphParticles<D>& pa = a.particles();
   const SphParticles<D>& pb = b.particles();
   ASSERT_FALSE(pb.position_divergence.empty());  // the full pass ran
-  ASSERT_EQ(pa.n_owned, pb.n_owned);
-  std::map<std::int64_t, std::size_t> at;
-  for (std::size_t i = 0; i < pb.n_owned; ++i) at[pb.gid[i]] = i;
-  int fluid = 0;
-  for (std::size_t i = 0; i < pa.n_owned; ++i) {
-    const std::size_t j = at.at(pa.gid[i]);
-    ASSERT_EQ(pa.rho[i], pb.rho[j]) << "id " << pa.gid[i];
-    ASSERT_EQ(pa.p[i], pb.p[j]) << "id " << pa.gid[i];
-    for (int d = 0; d < D; ++d) {
-      ASSERT_EQ(pa.x[i][d], pb.x[j][d]) << "id " << pa.gid[i];
-      ASSERT_EQ(pa.v[i][d], pb.v[j][d]) << "id " << pa.gid[i];
-    }
-    fluid += pa.kind[i] == Kind::Fluid;
-  }
-  EXPECT_GT(fluid, 100);
+  EXPECT_GT(testing::expect_same_particles<D>(pa, pb), 100);
 }
 
 TEST(FreeSurfaceFlag, DamBreakRunIsBitwiseTheFullPasses) {
