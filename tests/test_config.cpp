@@ -58,7 +58,7 @@ numerics:
   anti_clump: false
   anti_clump_epsilon: 0.3
   anti_clump_exponent: 6
-  neighbor_skin: 0.15
+  neighbor_skin: 0.12
 mold:
   wall_layers: 4
   shapes:
@@ -152,7 +152,7 @@ TEST(Config, FullCaseLoads) {
   EXPECT_FALSE(c.numerics.anti_clump);
   EXPECT_EQ(c.numerics.anti_clump_epsilon, 0.3);
   EXPECT_EQ(c.numerics.anti_clump_exponent, 6);
-  EXPECT_EQ(c.numerics.neighbor_skin, 0.15);
+  EXPECT_EQ(c.numerics.neighbor_skin, 0.12);
   EXPECT_DOUBLE_EQ(c.h(), 3.6e-4);
   EXPECT_EQ(c.mold.wall_layers, 4);
   ASSERT_EQ(c.mold.shapes.size(), 4u);
@@ -215,7 +215,7 @@ TEST(Config, DefaultsApply) {
   EXPECT_EQ(c.numerics.delta_sph, 0.0);
   EXPECT_TRUE(c.numerics.anti_clump);
   EXPECT_EQ(c.numerics.anti_clump_exponent, 4);
-  EXPECT_EQ(c.numerics.neighbor_skin, 0.1);
+  EXPECT_EQ(c.numerics.neighbor_skin, 0.15);
   EXPECT_EQ(c.mold.wall_layers, 3);
   EXPECT_EQ(c.mold.shapes[0].line, 11);
   EXPECT_TRUE(c.moving_walls.empty());

@@ -17,10 +17,10 @@
 
 #include "../src/sph/pass_loop.hpp"
 #include "../src/sph/sph_terms.hpp"
+#include "same_particles.hpp"
 #include "sphdem/config/config.hpp"
 #include "sphdem/sph/fluid_rates.hpp"
 #include "sphdem/sph/sph.hpp"
-#include "same_particles.hpp"
 #include "validation_helpers.hpp"
 
 namespace sphdem {

@@ -118,7 +118,7 @@ TEST(Schema, IdentityOfAResinCaseKeepsTheOldLines) {
                                "numerics.anti_clump = true",
                                "numerics.anti_clump_epsilon = 0.2",
                                "numerics.anti_clump_exponent = 4",
-                               "numerics.neighbor_skin = 0.1",
+                               "numerics.neighbor_skin = 0.15",
                                "mold.wall_layers = 3",
                                "mold.shapes[0] = box [0, 0, 0] [0.03, 0.03, 0]",
                                "fill[0] = box [0, 0, 0] [0.03, 0.02, 0]",

@@ -149,7 +149,7 @@ numerics:
   anti_clump: true
   anti_clump_epsilon: 0.2
   anti_clump_exponent: 4
-  neighbor_skin: 0.1             # fraction of 2h
+  neighbor_skin: 0.15            # fraction of 2h
 
 mold:                            # the cavity is the union of these shapes (mm -> m)
   wall_layers: 3

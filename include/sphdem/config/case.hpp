@@ -113,7 +113,7 @@ struct Numerics {
   // The viscous traction at the free surface: the (grad v)^T part the
   // Morris term lacks there (src/sph/surface_traction.cpp).
   bool free_surface_traction = false;
-  double neighbor_skin = 0.1;  // Verlet skin as a fraction of the support 2h
+  double neighbor_skin = 0.15;  // Verlet skin as a fraction of the support 2h
 };
 
 // What the resin sees at a wall (docs/physics.md "Wall conditions"): the
