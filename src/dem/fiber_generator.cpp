@@ -188,13 +188,14 @@ class Buckets {
   std::unordered_map<std::uint64_t, std::vector<std::size_t>> items_;
 };
 
+// The most tiles of a region (2^31): far beyond any placement that ends.
+constexpr double kMaxTiles = 2147483648.0;
+
 // The fixed grid of tiles over the region (the same for every share): at
 // least `edge` wide, so that fibers whose centres lie in two tiles that
 // share no face, edge or corner never come within the gap of each other.
 // A tile's colour is the parity of its coordinates (2^D colours): two
 // neighbouring tiles never have the same.
-constexpr double kMaxTiles = 2147483648.0;  // 2^31
-
 template <int D>
 struct Tiles {
   std::array<std::int64_t, 3> n{1, 1, 1};
