@@ -8,7 +8,9 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
+#include <stdexcept>
 #include <vector>
 
 #include "../src/parallel/partition_graph.hpp"
@@ -73,6 +75,34 @@ void expect_cells_covered(const Box<D>& box, const std::array<bool, 3>& periodic
   long full = 1;
   for (int d = 0; d < D; ++d) full *= dec.block_edge();
   EXPECT_LE(*std::max_element(cells_in.begin(), cells_in.end()), full);
+}
+
+// Dims outside a CellGrid's are refused: main cast the cube root of
+// (2^63)^3 to long (out of range) and overflowed `d + b - 1`.
+TEST(TopCells, BlockEdgeRefusesDimsBeyondTheGrids) {
+  constexpr long kHuge = std::numeric_limits<long>::max();
+  EXPECT_THROW(block_edge({kHuge, kHuge, kHuge}, 1), std::invalid_argument);
+  EXPECT_THROW(block_edge({0, 5, 1}, 1), std::invalid_argument);
+  EXPECT_EQ(block_edge({kMaxGridCells, 1, 1}, kMaxGridCells), 1);
+}
+
+// A box of absurd extent for its cells is an error, not an out-of-range
+// cast (main: floor(2e303) cast to long, INT64_MIN on x86, so one cell).
+TEST(TopCells, CellGridPast2To40CellsIsRefused) {
+  const std::array<bool, 3> closed{false, false, false};
+  EXPECT_THROW(CellGrid<2>(Box<2>{Vec<2>(-1e300, 0), Vec<2>(1e300, 1)}, closed, 1e-3),
+               std::length_error);
+  EXPECT_THROW(CellGrid<3>(Box<3>{Vec<3>(0, 0, 0), Vec<3>(1e5, 1e5, 1e5)}, closed, 1e-3),
+               std::length_error);
+  const CellGrid<3> g(Box<3>{Vec<3>(0, 0, 0), Vec<3>(1, 2, 3)}, closed, 1e-3);
+  EXPECT_EQ(g.cells(), 1000L * 2000 * 3000);
+  // A position far outside, infinite or NaN: a cell of the grid.
+  for (const double far : {1e300, -1e300, std::numeric_limits<double>::infinity(),
+                           std::numeric_limits<double>::quiet_NaN()}) {
+    const long c = g.cell_of(Vec<3>(far, far, far));
+    EXPECT_GE(c, 0);
+    EXPECT_LT(c, g.cells());
+  }
 }
 
 TEST(TopCells, EveryCellInOneBlock2D) {

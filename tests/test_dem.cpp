@@ -7,12 +7,15 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 #include <random>
 
 #include "../src/dem/terms/contact_linear.hpp"
 #include "../src/dem/terms/parallel_bond.hpp"
 #include "../src/dem/terms/restitution_damping.hpp"
+#include "sphdem/core/clamped_cast.hpp"
+#include "sphdem/core/errors.hpp"
 #include "sphdem/dem/dem.hpp"
 #include "sphdem/dem/dem_fibers.hpp"
 
@@ -414,6 +417,69 @@ TEST(DemFibers, ImpossibleFractionIsAClearError) {
   s.count = 1;
   s.hi = Vec<2>(-14.5e-3, 60e-3);  // 0.5 mm wide: a 1 mm fiber along x cannot fit
   EXPECT_THROW(place_fibers(s, sys), std::runtime_error);
+}
+
+// The overlap test's bucket of a far, infinite or NaN position: clamped as
+// a double before the cast (main cast it as it was: INT64_MIN on x86).
+TEST(DemFibers, BucketOfARunawayPositionIsClamped) {
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(fiber_bucket_coord(2.5e-3, 0.0, 1e-3), 2);
+  EXPECT_EQ(fiber_bucket_coord(-0.5e-3, 0.0, 1e-3), -1);
+  EXPECT_EQ(fiber_bucket_coord(1e300, 0.0, 1e-3), kMaxBucketCoord);
+  EXPECT_EQ(fiber_bucket_coord(1e19, 0.0, 1e-3), kMaxBucketCoord);
+  EXPECT_EQ(fiber_bucket_coord(inf, 0.0, 1e-3), kMaxBucketCoord);
+  EXPECT_EQ(fiber_bucket_coord(-1e300, 0.0, 1e-3), -kMaxBucketCoord);
+  EXPECT_EQ(fiber_bucket_coord(-inf, 0.0, 1e-3), -kMaxBucketCoord);
+  EXPECT_EQ(fiber_bucket_coord(std::numeric_limits<double>::quiet_NaN(), 0.0, 1e-3),
+            -kMaxBucketCoord);
+  // Runaway particles already in the system: the same fibers around them.
+  DemSystem<2> clean, runaway;
+  for (const double far : {1e300, -1e300, inf, std::numeric_limits<double>::quiet_NaN()})
+    runaway.add_particle(Vec<2>(far, far), 0.125e-3, 2540, 0);
+  const std::size_t before = runaway.particles.size();
+  place_fibers(bath(175, 3), clean);
+  place_fibers(bath(175, 3), runaway);
+  ASSERT_EQ(runaway.particles.size(), before + clean.particles.size());
+  for (std::size_t i = 0; i < clean.particles.size(); ++i)
+    EXPECT_EQ(runaway.particles.x[before + i], clean.particles.x[i]) << i;
+}
+
+// A region of absurd extent is a clear error, not an out-of-range cast:
+// by fraction, a fiber count past int (main: cast to INT_MIN), by count,
+// tiles past 2^31 (main: cast to INT64_MIN, then one tile, no error).
+TEST(DemFibers, AnAbsurdRegionIsAClearError) {
+  const auto message = [](const FiberSpec<2>& s) -> std::string {
+    DemSystem<2> sys;
+    try {
+      place_fibers(s, sys);
+    } catch (const std::runtime_error& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  FiberSpec<2> s = bath(0, 3);
+  s.fraction = 0.01;
+  s.hi = Vec<2>(1e200, 1e200);
+  EXPECT_NE(message(s).find("more than 2^31 - 1"), std::string::npos) << message(s);
+  s = bath(10, 3);
+  s.hi = Vec<2>(1e300, 60e-3);
+  EXPECT_NE(message(s).find("more than 2^31 tiles"), std::string::npos) << message(s);
+}
+
+// Sub-steps from a step ratio: at least 1, and past 2^31 (a ratio that
+// overflowed, a NaN) a SimulationError rather than an out-of-range cast
+// (main returned INT64_MIN for the bond sub-steps below).
+TEST(DemStep, SubstepCountsPast2To31AreAnError) {
+  EXPECT_EQ(substep_count(0.3, "steps"), 1);
+  EXPECT_EQ(substep_count(2.5, "steps"), 3);
+  EXPECT_EQ(substep_count(static_cast<double>(kMaxSubsteps), "steps"), kMaxSubsteps);
+  EXPECT_THROW(substep_count(1e300, "steps"), SimulationError);
+  EXPECT_THROW(substep_count(std::numeric_limits<double>::quiet_NaN(), "steps"), SimulationError);
+  DemParams<2> p;
+  p.bond_dt = 1e-6;
+  EXPECT_EQ(dem_bond_substeps(p, 2.5e-6), 3);
+  p.bond_dt = 1e-300;
+  EXPECT_THROW(dem_bond_substeps(p, 1.0), SimulationError);
 }
 
 // Fibers placed by shares (issue 14 part 1): shares of the region, each

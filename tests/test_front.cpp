@@ -293,6 +293,39 @@ TEST(TrappedAir, AirAgainstAWallIsTrappedUnlessTheWallVents) {
   EXPECT_EQ(pockets_under_a_wall({vent_box(0, 2e-3)}, 5e-3).size(), 0u) << "outside the cavity";
 }
 
+// A runaway particle (far, infinite or NaN position) marks no cell of the
+// trapped-air grid, and finding its cells casts nothing out of range: the
+// cell is clamped as a double (main cast 1e300 or NaN to INT64_MIN and
+// overflowed the long in `c - reach`: UBSan's signed overflow).
+TEST(TrappedAir, ARunawayParticleMarksNothing) {
+  const double dp = 1e-3, inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const VoidGrid<2> g = make_void_grid<2>(Box<2>{Vec<2>(0, 0), Vec<2>(10 * dp, 10 * dp)}, dp);
+  SphParticles<2> ps;
+  ps.push_owned(0, Kind::Fluid, -1, 1.0, Vec<2>(4.5 * dp, 4.5 * dp), Vec<2>::Zero(), 1000);
+  std::vector<double> one;
+  mark_void_grid<2>(g, dp, ps, {}, {}, one);
+  ASSERT_GT(std::count_if(one.begin(), one.end(), [](double m) { return m > 0; }), 4);
+  std::int64_t id = 1;
+  for (const double far : {1e300, -1e300, 1e19, -1e19, inf, -inf, nan})
+    for (const Vec<2>& x : {Vec<2>(far, 4.5 * dp), Vec<2>(4.5 * dp, far), Vec<2>(far, far)})
+      ps.push_owned(id++, Kind::Fluid, -1, 1.0, x, Vec<2>::Zero(), 1000);
+  std::vector<double> all;
+  mark_void_grid<2>(g, dp, ps, {}, {}, all);
+  EXPECT_EQ(all, one) << "a runaway particle marked a cell";
+}
+
+// A domain too large for cells of half the spacing is an error, not an
+// overflowing cell count (main: 6e21 cells, no error).
+TEST(TrappedAir, AGridPast2To31CellsIsRefused) {
+  const double dp = 1e-3;
+  EXPECT_EQ(make_void_grid<2>(Box<2>{Vec<2>(0, 0), Vec<2>(1, 0.5)}, dp).size(), 2000 * 1000);
+  EXPECT_NO_THROW(make_void_grid<3>(Box<3>{Vec<3>(0, 0, 0), Vec<3>(0.5, 0.5, 0.5)}, dp));
+  EXPECT_THROW(make_void_grid<3>(Box<3>{Vec<3>(0, 0, 0), Vec<3>(1e4, 1e4, 1e4)}, dp),
+               std::length_error);
+  EXPECT_THROW(make_void_grid<2>(Box<2>{Vec<2>(0, 0), Vec<2>(1e300, 1)}, dp), std::length_error);
+}
+
 TEST(TrappedAir, TheNotchClosedByTheOtherFrontIsOnePocket) {
   const Case c = weld_case();
   const double dp = c.numerics.spacing;

@@ -2,6 +2,7 @@
 // InputError naming file, line and key, never a crash, a hang or a silent
 // acceptance; and the size estimate that refuses a case too big to build.
 #include <gtest/gtest.h>
+#include <mpi.h>
 
 #include <filesystem>
 #include <fstream>
@@ -10,7 +11,9 @@
 
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
+#include "sphdem/geometry/lattice_fill.hpp"
 #include "sphdem/solver/case_size.hpp"
+#include "validation_helpers.hpp"
 
 namespace sphdem {
 namespace {
@@ -204,6 +207,65 @@ TEST(HostileInput, SizeEstimateFollowsTheGeometry) {
   const CaseSize many = estimate_case_size(fibers, 1);
   EXPECT_GT(many.dem, 1e11);
   EXPECT_EQ(many.dominant_key, "fibers.area_fraction");
+}
+
+// The InputError a constructor throws for `text`, or an empty key.
+template <class F>
+InputError error_of(F&& build) {
+  try {
+    build();
+  } catch (const InputError& e) {
+    return e;
+  }
+  return InputError(kFile, 0, "", "no error");
+}
+
+// A mold far from the lattice's origin (0 without a domain): its node
+// indices would pass long's range (main: cast to INT64_MIN, then a signed
+// overflow in the last index).
+TEST(HostileInput, MoldFarFromTheOriginIsRefused) {
+  const std::string far = replaced(
+      replaced(std::string(kMinimal), "{min: [0, 0], max: [0.03, 0.03]}",
+               "{min: [3.0e15, 0], max: [3.000000000001e15, 0.03]}"),
+      "{min: [0, 0], max: [0.03, 0.02]}", "{min: [3.0e15, 0], max: [3.000000000001e15, 0.02]}");
+  const Case c = load_case_from_string(far, kFile);
+  const InputError e = error_of([&] { LatticeFill<2> fill(c); });
+  EXPECT_EQ(e.key(), "mold") << e.what();
+  EXPECT_EQ(e.line(), 9);
+  EXPECT_NE(std::string(e.what()).find("spacings from the lattice origin"), std::string::npos)
+      << e.what();
+}
+
+// A domain too large for the decomposition's cells: an InputError at
+// `domain` from the decomposition, before the filling (main cast
+// floor(2e300 / cut-off) to long: one cell, then the filling's error).
+TEST(HostileInput, DomainTooLargeForTheDecompositionIsRefused) {
+  const Comm self(MPI_COMM_SELF);
+  const Case c = load_case_from_string(
+      std::string(kMinimal) +
+          "domain: {min: [-1.0e300, -1.0e300], max: [1.0e300, 1.0e300]}  # 14\n",
+      kFile);
+  const InputError e = error_of([&] { Simulation<2> sim(c, self, testing::quiet()); });
+  EXPECT_EQ(e.key(), "domain") << e.what();
+  EXPECT_EQ(e.line(), 14);
+  EXPECT_NE(std::string(e.what()).find("decomposition"), std::string::npos) << e.what();
+}
+
+// Front events over a domain whose trapped-air grid (cells of half the
+// spacing) passes 2^31 cells: refused at the start (main built the run and
+// would overflow nothing here, but allocate 24 B per cell at the first
+// output).
+TEST(HostileInput, TrappedAirGridPast2To31CellsIsRefused) {
+  const Comm self(MPI_COMM_SELF);
+  const Case c = load_case_from_string(std::string(kMinimal) +
+                                           "domain: {min: [0, 0], max: [30, 9]}  # 14\n"
+                                           "output:                      # 15\n"
+                                           "  front_events: true         # 16\n",
+                                       kFile);
+  const InputError e = error_of([&] { Simulation<2> sim(c, self, testing::quiet()); });
+  EXPECT_EQ(e.key(), "output.front_events") << e.what();
+  EXPECT_EQ(e.line(), 16);
+  EXPECT_NE(std::string(e.what()).find("trapped-air grid"), std::string::npos) << e.what();
 }
 
 // The memory guard's error points at the dominant key's line.

@@ -10,6 +10,7 @@
 
 #include "dem_bond_chains.hpp"
 #include "dem_kernels.hpp"
+#include "sphdem/core/clamped_cast.hpp"
 #include "sphdem/dem/dem_profile.hpp"
 #include "sphdem/dem/drag_exchange.hpp"
 
@@ -198,7 +199,7 @@ void dem_implicit_step(const DemParams<D>& p, double dt, std::vector<DemWall<D>>
 template <int D>
 std::int64_t dem_bond_substeps(const DemParams<D>& p, double dt) {
   if (!(p.bond_dt > 0) || !(dt > p.bond_dt)) return 1;
-  return static_cast<std::int64_t>(std::ceil(dt / p.bond_dt * (1 - 1e-12)));
+  return substep_count(dt / p.bond_dt * (1 - 1e-12), "bond sub-steps per DEM step");
 }
 
 // Contacts alone: k_n for the translation, k_t R^2 for the spin (docs/dem.md).

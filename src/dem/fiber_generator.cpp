@@ -18,6 +18,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "sphdem/core/clamped_cast.hpp"
 #include "sphdem/dem/dem_fibers.hpp"
 #include "sphdem/dem/fiber_bend.hpp"
 
@@ -174,8 +175,7 @@ class Buckets {
  private:
   std::array<std::int64_t, 3> coords(const Vec<D>& x) const {
     std::array<std::int64_t, 3> c{0, 0, 0};
-    for (int d = 0; d < D; ++d)
-      c[d] = static_cast<std::int64_t>(std::floor((x[d] - lo_[d]) / cell_));
+    for (int d = 0; d < D; ++d) c[d] = fiber_bucket_coord(x[d], lo_[d], cell_);
     return c;
   }
   static std::uint64_t key(const std::array<std::int64_t, 3>& c) {
@@ -188,6 +188,9 @@ class Buckets {
   std::unordered_map<std::uint64_t, std::vector<std::size_t>> items_;
 };
 
+// The most tiles of a region (2^31): far beyond any placement that ends.
+constexpr double kMaxTiles = 2147483648.0;
+
 // The fixed grid of tiles over the region (the same for every share): at
 // least `edge` wide, so that fibers whose centres lie in two tiles that
 // share no face, edge or corner never come within the gap of each other.
@@ -198,10 +201,21 @@ struct Tiles {
   std::array<std::int64_t, 3> n{1, 1, 1};
   Vec<D> lo, hi, size;
 
+  // Counted as doubles first: a region of absurd extent is an error
+  // (more than kMaxTiles tiles), not an overflowing cast.
   Tiles(const Vec<D>& region_lo, const Vec<D>& region_hi, double edge)
       : lo(region_lo), hi(region_hi) {
+    double tiles = 1.0;
     for (int d = 0; d < D; ++d) {
-      n[d] = std::max<std::int64_t>(1, static_cast<std::int64_t>((hi[d] - lo[d]) / edge));
+      const double along = std::max(1.0, std::trunc((hi[d] - lo[d]) / edge));
+      tiles *= along;
+      if (!(tiles <= kMaxTiles)) {
+        throw std::runtime_error(fmt::format(
+            "fibers: the region would take more than 2^31 tiles of {:.3g} m (it spans {:.3g} m "
+            "along axis {}); is an extent of `region` off by orders of magnitude?",
+            edge, hi[d] - lo[d], d));
+      }
+      n[d] = static_cast<std::int64_t>(along);
       size[d] = (hi[d] - lo[d]) / static_cast<double>(n[d]);
     }
   }
@@ -384,8 +398,18 @@ int fiber_target(const FiberSpec<D>& s) {
   if (s.count > 0) return s.count;
   // The smallest count that reaches the fraction (1e-9 absorbs round-off
   // when the fraction is an exact multiple).
-  return static_cast<int>(
-      std::ceil(s.fraction * region_measure(s) / fiber_solid_measure(s, 1) - 1e-9));
+  const double n = std::ceil(s.fraction * region_measure(s) / fiber_solid_measure(s, 1) - 1e-9);
+  if (!(n <= static_cast<double>(std::numeric_limits<int>::max()))) {
+    throw std::runtime_error(
+        fmt::format("fibers: the area fraction {:g} of the region takes {:.3g} fibers, more than "
+                    "2^31 - 1; is an extent of `region` off by orders of magnitude?",
+                    s.fraction, n));
+  }
+  return static_cast<int>(n);
+}
+
+std::int64_t fiber_bucket_coord(double t, double lo, double cell) {
+  return clamped_floor<std::int64_t>((t - lo) / cell, -kMaxBucketCoord, kMaxBucketCoord);
 }
 
 template <int D>

@@ -31,6 +31,10 @@ struct Lattice {
   }
 };
 
+// Node indices beyond this many spacings from the origin are refused:
+// positions origin + (i + 1/2) dx there resolve only a fifth of a spacing.
+constexpr double kMaxNodeIndex = 1e15;
+
 template <int D>
 Lattice<D> make_lattice(const Case& c, const Box<D>& dom) {
   Lattice<D> L;
@@ -58,8 +62,21 @@ Lattice<D> make_lattice(const Case& c, const Box<D>& dom) {
       lo = std::max(lo, mold.lo[k] - reach);
       hi = std::min(hi, mold.hi[k] + reach);
     }
-    L.first[k] = static_cast<long>(std::floor((lo - L.origin[k]) / L.dx));
-    L.last[k] = static_cast<long>(std::ceil((hi - L.origin[k]) / L.dx)) - 1;
+    // Without a domain the origin is 0, and a mold far from it puts the
+    // indices beyond long's range (and the positions beyond a spacing's
+    // resolution): checked as doubles before the cast.
+    const double first = std::floor((lo - L.origin[k]) / L.dx);
+    const double end = std::ceil((hi - L.origin[k]) / L.dx);
+    if (!(std::abs(first) <= kMaxNodeIndex && std::abs(end) <= kMaxNodeIndex)) {
+      throw input_error_at(
+          c, c.domain_lo ? "domain" : "mold",
+          fmt::format("lies {:.3g} spacings from the lattice origin along axis {}; "
+                      "at most 1e15 (without `domain` the origin is 0: is a "
+                      "coordinate or numerics.spacing off by orders of magnitude?)",
+                      std::max(std::abs(first), std::abs(end)), k));
+    }
+    L.first[k] = static_cast<long>(first);
+    L.last[k] = static_cast<long>(end) - 1;
     if (c.periodic[k]) {
       const double cells = (dom.hi[k] - dom.lo[k]) / L.dx;
       if (std::abs(cells - std::round(cells)) > 1e-6) {

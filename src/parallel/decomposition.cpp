@@ -2,6 +2,7 @@
 // broadcast of the cell -> rank map.
 #include "partition_graph.hpp"
 
+#include <fmt/format.h>
 #include <metis.h>
 
 #include <algorithm>
@@ -143,6 +144,11 @@ std::vector<int> relabel_parts(const std::vector<int>& old, const std::vector<in
 }  // namespace detail
 
 long block_edge(const std::array<long, 3>& dims, long max_blocks) {
+  // A CellGrid's dims: within them the sums and the cast below stay in range.
+  for (long d : dims) {
+    if (d < 1 || d > kMaxGridCells)
+      throw std::invalid_argument(fmt::format("block_edge: {} cells along an axis", d));
+  }
   const auto count = [&dims](long b) {
     double n = 1;
     for (long d : dims) n *= static_cast<double>((d + b - 1) / b);
@@ -151,7 +157,8 @@ long block_edge(const std::array<long, 3>& dims, long max_blocks) {
   const double cells = count(1);
   const double limit = static_cast<double>(std::max(1L, max_blocks));
   // Start just below the answer (the cube root of the ratio in 3D, the
-  // square root in 2D: a generous lower bound is the cube root) and step up.
+  // square root in 2D: a generous lower bound is the cube root; at most the
+  // longest axis) and step up.
   long b = std::max(1L, static_cast<long>(std::floor(std::cbrt(cells / limit))));
   while (count(b) > limit) ++b;
   return b;
@@ -162,9 +169,20 @@ long block_edge(const std::array<long, 3>& dims, long max_blocks) {
 template <int D>
 CellGrid<D>::CellGrid(const Box<D>& box, const std::array<bool, 3>& periodic, double min_cell)
     : box_(box), periodic_(periodic) {
+  // Counted as doubles before any cast: past kMaxGridCells (a box of
+  // absurd extent for the cell) an error, not an out-of-range cast.
+  double cells = 1.0;
   for (int k = 0; k < D; ++k) {
     const double len = box.hi[k] - box.lo[k];
-    n_[static_cast<std::size_t>(k)] = std::max(1L, static_cast<long>(std::floor(len / min_cell)));
+    const double along = std::max(1.0, std::floor(len / min_cell));
+    cells *= along;
+    if (!(cells <= static_cast<double>(kMaxGridCells))) {
+      throw std::length_error(fmt::format(
+          "the decomposition's cell grid (cells at least {:g} m wide) would take more than 2^40 "
+          "cells; the domain spans {:.3g} m along axis {}",
+          min_cell, len, k));
+    }
+    n_[static_cast<std::size_t>(k)] = static_cast<long>(along);
     size_[k] = len / static_cast<double>(n_[static_cast<std::size_t>(k)]);
   }
   for (int k = D; k < 3; ++k) periodic_[static_cast<std::size_t>(k)] = false;

@@ -13,6 +13,8 @@
 #include <stdexcept>
 
 #include "dem_snapshot.hpp"
+#include "sphdem/config/config.hpp"
+#include "sphdem/core/clamped_cast.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/geometry/geometry.hpp"
 #include "sphdem/parallel/agreement.hpp"
@@ -68,6 +70,19 @@ double implicit_chain_reach(const Case& c) {
   return 1.1 * (c.fibers->particles_per_fiber - 1) * c.fibers->diameter;
 }
 
+namespace {
+
+// A fiber spec that cannot be placed: an input error at the key that sets
+// the fibers' amount.
+InputError fiber_input_error(const Case& c, const std::string& what) {
+  const FiberSettings& f = *c.fibers;
+  const bool from_set = f.amount_line == 0;
+  return InputError(from_set ? "--set" : c.source_file, f.amount_line,
+                    f.count > 0 ? "fibers.count" : "fibers.area_fraction", what);
+}
+
+}  // namespace
+
 template <int D>
 DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlacement& placement,
                          const FiberShare<D>* share) {
@@ -78,9 +93,7 @@ DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlace
   try {
     placement = place_fibers(fiber_spec<D>(f), all, share);
   } catch (const std::runtime_error& e) {
-    const bool from_set = f.amount_line == 0;
-    throw InputError(from_set ? "--set" : c.source_file, f.amount_line,
-                     f.count > 0 ? "fibers.count" : "fibers.area_fraction", e.what());
+    throw fiber_input_error(c, e.what());
   }
   return all;
 }
@@ -134,17 +147,25 @@ FiberModule<D>::FiberModule(const RunContext<D>& ctx, const FiberHost<D>* host) 
     const double margin = 0.1 * (box.hi - box.lo).maxCoeff();
     health_box_ = Box<D>{box.lo.array() - margin, box.hi.array() + margin};
     const double r = 0.5 * c.fibers->diameter;
-    own_dec_ = std::make_unique<Decomposition<D>>(
-        ctx.comm, health_box_, std::array<bool, 3>{false, false, false},
-        std::max(DemDomain<D>::reach(r, r), implicit_chain_reach(c)));
+    try {
+      own_dec_ = std::make_unique<Decomposition<D>>(
+          ctx.comm, health_box_, std::array<bool, 3>{false, false, false},
+          std::max(DemDomain<D>::reach(r, r), implicit_chain_reach(c)));
+    } catch (const std::length_error& e) {  // the mold far larger than the fibers
+      throw input_error_at(c, "mold", e.what());
+    }
     // Partitioned by where the fibers' first candidates lie (every rank
     // draws them, the same, without placing anything): nearly always
     // where the fibers end up.
     const FiberSpec<D> spec = fiber_spec<D>(*c.fibers);
     std::vector<std::int64_t> work(static_cast<std::size_t>(own_dec_->blocks()), 0);
-    for (int f = 0, n = fiber_target(spec); f < n; ++f)
-      work[static_cast<std::size_t>(own_dec_->block_of(first_fiber_centre(spec, f)))] +=
-          spec.particles_per_fiber;
+    try {  // the same spec as place_fibers below: its errors, the same input errors
+      for (int f = 0, n = fiber_target(spec); f < n; ++f)
+        work[static_cast<std::size_t>(own_dec_->block_of(first_fiber_centre(spec, f)))] +=
+            spec.particles_per_fiber;
+    } catch (const std::runtime_error& e) {
+      throw fiber_input_error(c, e.what());
+    }
     own_dec_->partition(work, true);
     dec = own_dec_.get();
   } else {
@@ -164,11 +185,8 @@ FiberModule<D>::FiberModule(const RunContext<D>& ctx, const FiberHost<D>* host) 
   } catch (const std::runtime_error& e) {
     error = e.what();
   }
-  if (const std::optional<RankFailure> failed = first_failure(ctx.comm, error)) {
-    const bool from_set = f.amount_line == 0;
-    throw InputError(from_set ? "--set" : c.source_file, f.amount_line,
-                     f.count > 0 ? "fibers.count" : "fibers.area_fraction", failed->message);
-  }
+  if (const std::optional<RankFailure> failed = first_failure(ctx.comm, error))
+    throw fiber_input_error(c, failed->message);
   placement_.tries = ctx.comm.sum(placement_.tries);
   // The same step on every rank (a rank may hold no fiber).
   dem_dt_ = bond_dt_ = ctx.comm.min(mine.stable_dt());
@@ -240,8 +258,7 @@ void FiberModule<D>::substep(double dt) {
   // the end, stable below one drag time (docs/dem.md): half of it.
   const double drag_step = dem_->params().subcycle_bonds ? 0.5 * kFiberDragStep : kFiberDragStep;
   const double sub = drag_time_ > 0 ? std::min(dem_dt_, drag_step * drag_time_) : dem_dt_;
-  substeps_ = static_cast<std::int64_t>(std::ceil(dt / sub * (1 - 1e-12)));
-  substeps_ = std::max<std::int64_t>(substeps_, 1);
+  substeps_ = substep_count(dt / sub * (1 - 1e-12), "fiber sub-steps per resin step");
   dem_->advance(substeps_, dt / static_cast<double>(substeps_));
   dem_->forward(DemGroup::State);
   coupled_dt_ = dt;

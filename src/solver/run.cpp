@@ -196,7 +196,8 @@ void Run<D>::report_progress(double elapsed, std::int64_t steps_done, bool force
                                   : 0;
   const double remaining_sim = std::max(0.0, case_.numerics.end_time - clock_.time);
   const double sim_per_wall = elapsed > 0 ? clock_.time / elapsed : 0;
-  const double eta = sim_per_wall > 0 ? remaining_sim / sim_per_wall : 0;
+  // At most 1e9 s (32 years; an absurd end_time): the casts below stay in int's range.
+  const double eta = sim_per_wall > 0 ? std::min(remaining_sim / sim_per_wall, 1e9) : 0;
   std::string extra;
   for (const auto& m : modules_) m->progress(extra);
   *opt_.log << fmt::format(

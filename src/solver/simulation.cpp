@@ -13,6 +13,7 @@
 #include "front_events_output.hpp"
 #include "injection_pressure.hpp"
 #include "snapshot_fields.hpp"
+#include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/geometry/geometry.hpp"
 #include "sphdem/parallel/exact_sum.hpp"
@@ -24,6 +25,22 @@
 #include "sphdem/sph/implicit_viscosity.hpp"
 
 namespace sphdem {
+
+namespace {
+
+// The run's decomposition; a domain too large for its cells is the case's
+// fault (the domain, or the mold it defaults to).
+template <int D>
+Decomposition<D> case_decomposition(const Comm& comm, const Case& c, const Box<D>& domain,
+                                    double min_cell, long max_top_cells) {
+  try {
+    return Decomposition<D>(comm, domain, c.periodic, min_cell, max_top_cells);
+  } catch (const std::length_error& e) {
+    throw input_error_at(c, c.domain_lo ? "domain" : "mold", e.what());
+  }
+}
+
+}  // namespace
 
 template <int D>
 ResinModule<D>::ResinModule(const RunContext<D>& ctx)
@@ -37,9 +54,19 @@ ResinModule<D>::ResinModule(const RunContext<D>& ctx)
       domain_(simulation_domain<D>(case_)),
       nl_(2.0 * case_.h(), case_.numerics.neighbor_skin * 2.0 * case_.h()),
       // Cells at least a fiber long with implicit bonds (fiber_module.hpp).
-      dec_(comm_, domain_, case_.periodic, std::max(nl_.cutoff(), implicit_chain_reach(case_)),
-           max_blocks(comm_.size(), case_.parallel.min_top_cells,
-                      case_.parallel.top_cells_per_rank)) {
+      dec_(case_decomposition<D>(comm_, case_, domain_,
+                                 std::max(nl_.cutoff(), implicit_chain_reach(case_)),
+                                 max_blocks(comm_.size(), case_.parallel.min_top_cells,
+                                            case_.parallel.top_cells_per_rank))) {
+  // The trapped-air grid of the front events: too many cells is the
+  // case's fault, found at the start rather than at the first output.
+  if (case_.output.front_events) {
+    try {
+      make_void_grid<D>(domain_, sp_.spacing);
+    } catch (const std::length_error& e) {
+      throw input_error_at(case_, "output.front_events", e.what());
+    }
+  }
   // Only the fields the case's options use take memory (docs/performance.md).
   drop_unused_fields<D>(sp_, any_slip_wall(case_), ps_);
   // Each rank fills only its share, partitioned by the lattice's work.

@@ -4,6 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "sphdem/core/clamped_cast.hpp"
 
 namespace sphdem {
 
@@ -42,9 +47,20 @@ VoidGrid<D> make_void_grid(const Box<D>& domain, double spacing) {
   VoidGrid<D> g;
   g.lo = domain.lo;
   g.cell = 0.5 * spacing;
-  for (int d = 0; d < D; ++d)
-    g.n[d] = std::max<std::int64_t>(
-        1, static_cast<std::int64_t>(std::ceil((domain.hi[d] - domain.lo[d]) / g.cell)));
+  // Counted as doubles before any cast: an extent of NaN, infinity or a
+  // count past the limit is an error, not an integer overflow.
+  double cells = 1.0;
+  for (int d = 0; d < D; ++d) {
+    const double along = std::max(1.0, std::ceil((domain.hi[d] - domain.lo[d]) / g.cell));
+    cells *= along;
+    if (!(cells <= static_cast<double>(kMaxVoidCells))) {
+      throw std::length_error(fmt::format(
+          "the trapped-air grid (cells of half the spacing, {:g} m, over the domain) would take "
+          "more than 2^31 cells; the domain spans {:.3g} m along axis {}",
+          g.cell, domain.hi[d] - domain.lo[d], d));
+    }
+    g.n[d] = static_cast<std::int64_t>(along);
+  }
   return g;
 }
 
@@ -81,7 +97,9 @@ void mark_void_grid(const VoidGrid<D>& g, double spacing, const SphParticles<D>&
     const bool vent = !resin && (vents.empty() || union_contains<D>(vents, ps.x[i]));
     std::array<std::int64_t, 3> lo{0, 0, 0}, hi{0, 0, 0};
     for (int d = 0; d < D; ++d) {
-      const auto c = static_cast<std::int64_t>(std::floor((ps.x[i][d] - g.lo[d]) / g.cell));
+      // Clamped before the cast (a NaN or far position): the same cells.
+      const std::int64_t c =
+          clamped_floor<std::int64_t>((ps.x[i][d] - g.lo[d]) / g.cell, -reach, g.n[d] - 1 + reach);
       lo[d] = std::clamp<std::int64_t>(c - reach, 0, g.n[d] - 1);
       hi[d] = std::clamp<std::int64_t>(c + reach, 0, g.n[d] - 1);
     }
@@ -94,7 +112,7 @@ void mark_void_grid(const VoidGrid<D>& g, double spacing, const SphParticles<D>&
             const double centre = g.lo[d] + (static_cast<double>(c[d]) + 0.5) * g.cell;
             d2 += (centre - ps.x[i][d]) * (centre - ps.x[i][d]);
           }
-          if (d2 > r2) continue;
+          if (!(d2 <= r2)) continue;  // a NaN position marks nothing
           const auto k = static_cast<std::size_t>(3 * cell_index(g, c));
           marks[k + (resin ? 0 : 1)] += 1.0;
           if (vent) marks[k + 2] += 1.0;

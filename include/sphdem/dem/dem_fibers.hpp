@@ -78,6 +78,14 @@ int fiber_target(const FiberSpec<D>& spec);
 template <int D>
 Vec<D> first_fiber_centre(const FiberSpec<D>& spec, int f);
 
+// The overlap test's bucket coordinate of position t along an axis whose
+// buckets are `cell` wide from lo: floor((t - lo) / cell), clamped as a
+// double into [-kMaxBucketCoord, kMaxBucketCoord] (NaN: the lowest), so a
+// far or non-finite particle never makes an out-of-range cast. The buckets
+// hash 21 bits per axis, so the clamp costs nothing the hash kept.
+inline constexpr std::int64_t kMaxBucketCoord = std::int64_t{1} << 40;
+std::int64_t fiber_bucket_coord(double t, double lo, double cell);
+
 // Area (2D) or volume (3D) of the particles of n fibers.
 template <int D>
 double fiber_solid_measure(const FiberSpec<D>& spec, int n);

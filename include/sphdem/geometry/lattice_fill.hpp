@@ -33,7 +33,9 @@ template <int D>
 class LatticeFill {
  public:
   // Throws InputError at `domain` for a domain of more than 1e9 spacings
-  // along an axis or a periodic length that is not whole spacings.
+  // along an axis or a periodic length that is not whole spacings, and at
+  // `domain` (or `mold` without one) for nodes more than 1e15 spacings from
+  // the lattice's origin.
   explicit LatticeFill(const Case& c);
   ~LatticeFill();
   LatticeFill(const LatticeFill&) = delete;

@@ -35,6 +35,11 @@ std::int64_t particle_work(const SphParticles<D>& ps, std::size_t i) {
   return ps.kind[i] == Kind::Fluid ? kFluidWork : kWallWork;
 }
 
+// The most cells of a CellGrid built from a cell size: far from long's
+// range in the index arithmetic, and beyond any rank's memory (the halo
+// keeps a byte per cell, InteriorCells).
+inline constexpr long kMaxGridCells = 1L << 40;
+
 template <int D>
 class CellGrid {
  public:
@@ -42,7 +47,7 @@ class CellGrid {
 
   // n_k = floor(L_k / min_cell) cells (at least 1) of size L_k / n_k along
   // each axis, so cells are never smaller than min_cell and tile periodic
-  // axes exactly.
+  // axes exactly. Throws std::length_error past kMaxGridCells cells.
   CellGrid(const Box<D>& box, const std::array<bool, 3>& periodic, double min_cell);
   // The grid of `cells` cells per axis over `box` (the grid of blocks).
   CellGrid(const Box<D>& box, const std::array<bool, 3>& periodic, const Coords& cells);
@@ -90,6 +95,7 @@ inline long max_blocks(int ranks, long min_blocks = kMinBlocks, long per_rank = 
 
 // The smallest block edge b (in cells, the same along every axis) for which
 // the blocks, ceil(n_k / b) along axis k, number at most `max_blocks`.
+// Throws std::invalid_argument unless every n_k is in [1, kMaxGridCells].
 long block_edge(const std::array<long, 3>& dims, long max_blocks);
 
 template <int D>

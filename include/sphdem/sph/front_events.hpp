@@ -44,6 +44,11 @@ struct VoidGrid {
   std::int64_t size() const { return n[0] * n[1] * n[2]; }
 };
 
+// The most cells of a VoidGrid (3 doubles each, on every rank).
+inline constexpr std::int64_t kMaxVoidCells = std::int64_t{1} << 31;
+
+// Throws std::length_error past kMaxVoidCells (a domain far larger than
+// the spacing; the resin module turns it into an input error at the start).
 template <int D>
 VoidGrid<D> make_void_grid(const Box<D>& domain, double spacing);
 
