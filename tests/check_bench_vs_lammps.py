@@ -13,6 +13,8 @@ peer, side by side") without the real codes: no timings are taken here.
   - the DEM decks (bpm4800 with a bench_dem stand-in) alternate with the
     BPM deck and print a row per rank count and sphdem's speed-up;
   - sphdem runs with the shipped cases' delta-SPH unless --bare;
+  - --pin CPUS runs both codes under taskset (the stand-ins see only CPUS),
+    and a --pin that is not a CPU list exits 2;
   - a mirror without the .dsc (apt-get source fails after downloading the
     tarballs, stand-ins for apt-get and cmake): the tarballs are unpacked,
     Debian's patch series applied, and the peer built from that source.
@@ -102,6 +104,28 @@ expect(all("--set numerics.delta_sph=0.1" in c for c in calls if c.startswith("s
 expect(all("-var nsteps 10" in c for c in calls if c.startswith("lammps")), "--steps reaches the peer")
 row = re.search(r"^\| 21k \| 1 \| 2 \|( [0-9.]+ \([0-9.]+-[0-9.]+\) \|){3}$", r.stdout, re.M)
 expect(row is not None, "one table row: median (min-max) of three ratios")
+
+# --pin: every run of both codes on the given CPUs (the stand-ins log the
+# CPUs the kernel lets them run on).
+pin_log = os.path.join(work, "pin.log")
+pin_bench = os.path.join(work, "pin_bench_sph")
+pin_lmp = os.path.join(work, "pin_lmp")
+allowed = "$(grep Cpus_allowed_list /proc/$$/status | cut -f2)"
+with open(pin_bench, "w") as f:
+    f.write(f'#!/bin/sh\necho "sphdem {allowed}" >> {pin_log}\n')
+with open(pin_lmp, "w") as f:
+    f.write(f'#!/bin/sh\nif [ "$1" = -h ]; then printf "Installed packages:\\n\\nBPM GRANULAR SPH\\n"; '
+            f'exit 0; fi\necho "lammps {allowed}" >> {pin_log}\n')
+os.chmod(pin_bench, 0o755)
+os.chmod(pin_lmp, 0o755)
+r = run("--cases", "21k", "--ranks", "1", "--rounds", "1", "--steps", "10", "--bench", pin_bench,
+        "--pin", "0", "--out", os.path.join(work, "pin"), env={"LMP": pin_lmp, "PATH": "/usr/bin:/bin"})
+print(r.stdout, r.stderr)
+pins = open(pin_log).read().splitlines() if os.path.exists(pin_log) else []
+expect(r.returncode == 0 and len(pins) == 3 and all(p.split()[1] == "0" for p in pins),
+       f"--pin 0 runs sphdem and both peer modes on CPU 0: {pins}")
+r = run("--pin", "one", "--dry-run", "--lmp", fake_lmp)
+expect(r.returncode == 2 and "--pin" in r.stderr, "--pin one exits 2 naming the option")
 
 # The DEM decks: bench_dem against the BPM deck, alternating, at two rank
 # counts, with sphdem's speed-up between them.

@@ -21,6 +21,7 @@ DEM_STEPS=4000
 OUT="$ROOT/out/bench_vs_lammps"
 DRY=0
 BUILD_PEER=0
+PIN=""
 # The shipped cases' physics (inputs/plate.yaml): bench_sph's channel has
 # anti-clump and Morris viscosity on; delta-SPH is added here.
 DEFAULT_SETS=("numerics.delta_sph=0.1")
@@ -71,6 +72,11 @@ options:
                        Needs dpkg-dev: scripts/install-deps.sh --peer
   --peer-dir DIR        where --build-peer downloads and builds  [build/peers/lammps]
   --out DIR            hyperfine's JSON per round              [out/bench_vs_lammps]
+  --pin CPUS           run every command of both codes under taskset -c CPUS
+                       (a list such as 1 or 0,1): on a machine whose CPUs are
+                       not equal, 1-rank runs of both codes then land on the
+                       same CPU (docs/performance.md, "this machine's two
+                       CPUs"); use it with rank counts that fit in CPUS
   --dry-run            print what would run (the peer build too), run nothing
   -h, --help           this help
 
@@ -93,6 +99,7 @@ while (($#)); do
     --bare) DEFAULT_SETS=(); shift ;;
     --out) OUT="$2"; shift 2 ;;
     --peer-dir) PEER_DIR="$2"; shift 2 ;;
+    --pin) PIN="$2"; shift 2 ;;
     --dry-run) DRY=1; shift ;;
     -h | --help) usage; exit 0 ;;
     *) echo "bench_vs_lammps: unknown option '$1' (see --help)" >&2; exit 2 ;;
@@ -113,6 +120,7 @@ done
 for r in $RANKS; do
   [[ "$r" =~ ^[1-9][0-9]*$ ]] || { echo "bench_vs_lammps: --ranks takes positive integers, not '$r'" >&2; exit 2; }
 done
+[[ -z "$PIN" || "$PIN" =~ ^[0-9]+(-[0-9]+)?(,[0-9]+(-[0-9]+)?)*$ ]] || { echo "bench_vs_lammps: --pin takes a CPU list such as 1 or 0,1 or 0-3, not '$PIN'" >&2; exit 2; }
 
 run() {  # prints the command; runs it unless --dry-run
   printf '+'
@@ -200,12 +208,15 @@ if ! ((DRY)); then
   [[ -z "$SPH_CASES" || -x "$BENCH" ]] || { echo "bench_vs_lammps: no $BENCH (cmake --preset release && cmake --build build/release --target bench_sph)" >&2; exit 1; }
   [[ -z "$DEM_CASES" || -x "$BENCH_DEM" ]] || { echo "bench_vs_lammps: no $BENCH_DEM (cmake --preset release && cmake --build build/release --target bench_dem)" >&2; exit 1; }
   [[ -z "$DEM_CASES" ]] || "$peer" -h 2>/dev/null | grep -w BPM >/dev/null || { echo "bench_vs_lammps: $peer has no BPM package (needed by $DEM_CASES)" >&2; exit 1; }
+  [[ -z "$PIN" ]] || command -v taskset >/dev/null || { echo "bench_vs_lammps: --pin needs taskset (Debian package util-linux)" >&2; exit 1; }
   command -v hyperfine >/dev/null || { echo "bench_vs_lammps: hyperfine is missing (scripts/install-deps.sh --peer)" >&2; exit 1; }
 fi
 
 sets=""
 for s in "${DEFAULT_SETS[@]}" "${SETS[@]}"; do sets+=" --set $s"; done
 mpi="mpirun --oversubscribe"
+# Pinned: taskset's CPU list is inherited by mpirun and every rank.
+[[ -n "$PIN" ]] && mpi="taskset -c $PIN $mpi"
 [[ $(id -u) -eq 0 ]] && mpi+=" --allow-run-as-root"
 
 run mkdir -p "$OUT"
