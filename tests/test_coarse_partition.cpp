@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "../src/parallel/ghost_targets.hpp"
 #include "../src/parallel/partition_graph.hpp"
 #include "sphdem/parallel/decomposition.hpp"
 
@@ -178,6 +179,59 @@ TEST(TopCells, MapIsTheSameOnEveryRank) {
   for (long c = 0; c < dec.grid().cells(); ++c)
     EXPECT_EQ(dec.owner_of_cell(c),
               dec.block_owners()[static_cast<std::size_t>(dec.block_of_cell(c))]);
+}
+
+// The ghost build's interior test (detail::InteriorCells, one test per
+// block the 3^D cells around a cell overlap) against its definition, cell
+// by cell: every neighbor cell within the grid is this rank's and none lies
+// across a periodic face. And owner_of_coords is owner_of_cell. Blocks of
+// several cells with owners mixed by the partition, a periodic axis and
+// closed ones, in 2D and 3D, at 1, 2 and 4 ranks.
+template <int D>
+void check_interior_cells(const Box<D>& box, const std::array<bool, 3>& periodic, double cell,
+                          long max_blocks_) {
+  const Comm world;
+  Decomposition<D> dec(world, box, periodic, cell, max_blocks_);
+  ASSERT_GT(dec.block_edge(), 1);
+  const CellGrid<D>& g = dec.grid();
+  std::vector<std::int64_t> work(static_cast<std::size_t>(dec.blocks()), 0);
+  for (long c = 0; c < g.cells(); ++c)
+    if (c % world.size() == world.rank())
+      work[static_cast<std::size_t>(dec.block_of_cell(c))] += 1 + c % 5;
+  dec.partition(work, /*replicated=*/false);
+  detail::InteriorCells<D> interior(dec);
+  const long z = D == 3 ? 1 : 0;
+  long interior_cells = 0, boundary_cells = 0;
+  for (long c = 0; c < g.cells(); ++c) {
+    const auto at = g.coords_of(c);
+    ASSERT_EQ(dec.owner_of_coords(at), dec.owner_of_cell(c));
+    bool expected = true;
+    for (long oz = -z; oz <= z; ++oz)
+      for (long oy = -1; oy <= 1; ++oy)
+        for (long ox = -1; ox <= 1; ++ox) {
+          Vec<D> shift;
+          typename CellGrid<D>::Coords m;
+          if (!detail::offset_coords<D>(g, at, {ox, oy, oz}, shift, m)) continue;
+          if (!shift.isZero(0.0) || dec.owner_of_cell(g.index(m)) != world.rank()) expected = false;
+        }
+    Vec<D> centre;
+    for (int k = 0; k < D; ++k)
+      centre[k] = g.lower(k, at[static_cast<std::size_t>(k)]) + 0.5 * g.size(k);
+    ASSERT_EQ(interior.contains(centre), expected) << "cell " << c;
+    (expected ? interior_cells : boundary_cells) += 1;
+  }
+  // Both answers occur (the test could not fail otherwise).
+  EXPECT_GT(interior_cells, 0);
+  EXPECT_GT(boundary_cells, 0);
+}
+
+TEST(TopCells, InteriorCellsFollowTheirDefinition2D) {
+  check_interior_cells<2>(Box<2>{Vec<2>(0, 0), Vec<2>(6, 4)}, {true, false, false}, 0.1, 40);
+}
+
+TEST(TopCells, InteriorCellsFollowTheirDefinition3D) {
+  check_interior_cells<3>(Box<3>{Vec<3>(0, 0, 0), Vec<3>(3, 2, 1.5)}, {false, true, false}, 0.1,
+                          60);
 }
 
 }  // namespace

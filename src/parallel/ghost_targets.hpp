@@ -26,23 +26,25 @@ inline double gap(const CellGrid<D>& g, const Vec<D>& x, int k, long c, long o) 
   return 0.0;
 }
 
-// The neighbor cell at offset o of cell c, wrapped across periodic faces
-// (shift: what the copy's position gains), or -1 outside a closed face.
+// The coordinates m of the neighbor cell at offset o of cell c, wrapped
+// across periodic faces (shift: what the copy's position gains); false
+// outside a closed face.
 template <int D>
-inline long offset_cell(const CellGrid<D>& g, const typename CellGrid<D>::Coords& c,
-                        const std::array<long, 3>& o, Vec<D>& shift) {
-  typename CellGrid<D>::Coords m = c;
+inline bool offset_coords(const CellGrid<D>& g, const typename CellGrid<D>::Coords& c,
+                          const std::array<long, 3>& o, Vec<D>& shift,
+                          typename CellGrid<D>::Coords& m) {
+  m = c;
   shift.setZero();
   for (int k = 0; k < D; ++k) {
     const auto uk = static_cast<std::size_t>(k);
     m[uk] = c[uk] + o[uk];
     if (m[uk] >= 0 && m[uk] < g.dims()[uk]) continue;
-    if (!g.periodic(k)) return -1;
+    if (!g.periodic(k)) return false;
     const bool below = m[uk] < 0;
     m[uk] += below ? g.dims()[uk] : -g.dims()[uk];
     shift[k] = below ? g.length(k) : -g.length(k);
   }
-  return g.index(m);
+  return true;
 }
 
 // Every (rank, shift) that needs a copy of the owned particle at x: the
@@ -71,9 +73,9 @@ inline void ghost_targets(const Decomposition<D>& dec, const Vec<D>& x, double r
         }
         if (d2 >= r2) continue;
         GhostTarget<D> t{0, Vec<D>::Zero()};
-        const long cell = offset_cell<D>(g, c, o, t.shift);
-        if (cell < 0) continue;
-        t.rank = dec.owner_of_cell(cell);
+        typename CellGrid<D>::Coords m;
+        if (!offset_coords<D>(g, c, o, t.shift, m)) continue;
+        t.rank = dec.owner_of_coords(m);
         if (t.rank == dec.comm().rank() && t.shift.isZero(0.0)) continue;
         const auto same = [&](const GhostTarget<D>& u) {
           return u.rank == t.rank && u.shift == t.shift;
@@ -102,18 +104,19 @@ class InteriorCells {
 
  private:
   static constexpr std::uint8_t kUnknown = 0, kInterior = 1, kBoundary = 2;
+  // The cells around c within the grid (beyond a closed face nobody is
+  // there), none across a periodic face, all owned here: tested per block
+  // of the decomposition the 3^D cells overlap (usually one), not per cell.
   bool decide(const CellGrid<D>& g, const typename CellGrid<D>::Coords& c) const {
-    const int me = dec_.comm().rank();
-    const long z = D == 3 ? 1 : 0;
-    for (long oz = -z; oz <= z; ++oz)
-      for (long oy = -1; oy <= 1; ++oy)
-        for (long ox = -1; ox <= 1; ++ox) {
-          Vec<D> shift;
-          const long cell = offset_cell<D>(g, c, {ox, oy, oz}, shift);
-          if (cell < 0) continue;  // outside a closed face: nobody there
-          if (!shift.isZero(0.0) || dec_.owner_of_cell(cell) != me) return false;
-        }
-    return true;
+    typename CellGrid<D>::Coords lo = c, hi = c;
+    for (int k = 0; k < D; ++k) {
+      const auto uk = static_cast<std::size_t>(k);
+      const long last = g.dims()[uk] - 1;
+      if (g.periodic(k) && (c[uk] == 0 || c[uk] == last)) return false;  // a wrapped neighbor
+      lo[uk] = std::max(0L, c[uk] - 1);
+      hi[uk] = std::min(last, c[uk] + 1);
+    }
+    return dec_.owns_cells(lo, hi, dec_.comm().rank());
   }
   const Decomposition<D>& dec_;
   std::vector<std::uint8_t> state_;

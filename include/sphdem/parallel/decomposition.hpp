@@ -124,6 +124,23 @@ class Decomposition {
   int owner_of_cell(long cell) const {
     return owner_[static_cast<std::size_t>(block_of_cell(cell))];
   }
+  // The owner of the cell at coordinates c of grid(): owner_of_cell without
+  // decoding an index (three integer divisions instead of seven; the ghost
+  // build asks for the neighbours of every cell near a rank boundary).
+  int owner_of_coords(const typename CellGrid<D>::Coords& c) const {
+    return owner_[static_cast<std::size_t>(
+        blocks_.index({c[0] / edge_, c[1] / edge_, c[2] / edge_}))];
+  }
+  // Whether `rank` owns every cell of grid() with coordinates in [lo, hi]
+  // (inclusive, within the grid): one test per block the box overlaps.
+  bool owns_cells(const typename CellGrid<D>::Coords& lo, const typename CellGrid<D>::Coords& hi,
+                  int rank) const {
+    for (long bz = lo[2] / edge_; bz <= hi[2] / edge_; ++bz)
+      for (long by = lo[1] / edge_; by <= hi[1] / edge_; ++by)
+        for (long bx = lo[0] / edge_; bx <= hi[0] / edge_; ++bx)
+          if (owner_[static_cast<std::size_t>(blocks_.index({bx, by, bz}))] != rank) return false;
+    return true;
+  }
   int owner(const Vec<D>& x) const { return owner_[static_cast<std::size_t>(block_of(x))]; }
   // The owner of every block (the whole map: every rank holds it).
   const std::vector<int>& block_owners() const { return owner_; }
