@@ -10,17 +10,106 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <set>
+#include <utility>
+#include <vector>
 
+#include "../src/dem/dem_kernels.hpp"
 #include "../src/dem/terms/contact_linear.hpp"
 #include "../src/dem/terms/parallel_bond.hpp"
 #include "../src/dem/terms/restitution_damping.hpp"
 #include "sphdem/core/clamped_cast.hpp"
 #include "sphdem/core/errors.hpp"
+#include "sphdem/dem/cell_list.hpp"
 #include "sphdem/dem/dem.hpp"
 #include "sphdem/dem/dem_fibers.hpp"
 
 namespace sphdem {
 namespace {
+
+// The pair-list build's gid lookup (dem_kernels.hpp): the table of a dense
+// gid range and the binary search of a sparse one give what a scan gives,
+// the copy nearest to x among periodic images (the first in local order on
+// a tie) and -1 for an absent gid.
+TEST(DemPairs, GidIndexAgreesWithAScan) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const bool sparse : {false, true}) {
+    DemParticles<3> ps;
+    const std::size_t n = 300;
+    ps.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      // gids 1000..1199, some twice (images); sparse: spread past 4 n + 64
+      const auto g = static_cast<std::int64_t>(1000 + (i * 7) % 200);
+      ps.gid[i] = sparse ? g * 1000003 : g;
+      ps.x[i] = Vec<3>(u(rng), u(rng), u(rng));
+    }
+    ps.x[5] = ps.x[205];  // a tie between two images of one gid
+    ASSERT_EQ(ps.gid[5], ps.gid[205]);
+    const GidIndex<3> index(ps);
+    for (std::int64_t g0 = 990; g0 < 1210; ++g0) {
+      const std::int64_t g = sparse ? g0 * 1000003 : g0;
+      const Vec<3> x(u(rng), u(rng), u(rng));
+      std::int32_t first = -1, nearest = -1;
+      double best = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (ps.gid[i] != g) continue;
+        if (first < 0) first = static_cast<std::int32_t>(i);
+        const double d2 = (ps.x[i] - x).squaredNorm();
+        if (nearest < 0 || d2 < best) {
+          nearest = static_cast<std::int32_t>(i);
+          best = d2;
+        }
+      }
+      EXPECT_EQ(index.find(g), first) << g;
+      EXPECT_EQ(index.find_nearest(g, x, ps), nearest) << g;
+    }
+    EXPECT_EQ(index.find_nearest(ps.gid[5], ps.x[5], ps), 5);  // the tie: local order
+  }
+}
+
+// The cell list's half stencil (for_each_pair) finds every pair that
+// for_each_near finds from either end, each once, in 2D and 3D, with
+// particles outside the box's cells clamped into the edge cells.
+template <int D>
+void check_half_stencil() {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Vec<D>> x(400);
+  for (auto& p : x)
+    for (int d = 0; d < D; ++d) p[d] = u(rng);
+  std::vector<std::int32_t> start, items;
+  for (const double cell : {0.15, 0.4, 0.0}) {
+    // The last round: cells of 0.01 asked, one particle far away, so the
+    // cell budget (16 per particle) doubles the cells until they fit.
+    if (cell == 0.0) x[0] = Vec<D>::Constant(4.5);
+    dem_detail::CellList<D> cells;
+    cells.build(x, x.size(), cell == 0.0 ? 0.01 : cell, start, items);
+    std::set<std::pair<int, int>> near, half;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      cells.for_each_near(x[i], [&](std::int32_t j) {
+        if (static_cast<std::size_t>(j) != i)
+          near.insert(
+              {std::min<int>(static_cast<int>(i), j), std::max<int>(static_cast<int>(i), j)});
+      });
+    std::size_t calls = 0;
+    cells.for_each_pair([&](std::int32_t a, std::int32_t b) {
+      ++calls;
+      EXPECT_NE(a, b);
+      half.insert({std::min(a, b), std::max(a, b)});
+    });
+    EXPECT_EQ(calls, half.size());  // each pair once
+    EXPECT_EQ(half, near);
+    EXPECT_GT(near.size(), x.size());
+  }
+}
+
+TEST(DemPairs, HalfStencilFindsEveryPairOnce2D) {
+  check_half_stencil<2>();
+}
+TEST(DemPairs, HalfStencilFindsEveryPairOnce3D) {
+  check_half_stencil<3>();
+}
 
 TEST(DemRotation, TwoDIsTheZComponentOfThreeD) {
   const Vec<3> r(0.3, -1.2, 0), f(2.0, 0.7, 0);

@@ -74,33 +74,33 @@ void dem_build_pairs(const DemParams<D>& p, const std::vector<DemWall<D>>& walls
   // Contact candidates within R_a + R_b + skin.
   dem_detail::CellList<D> cells;
   cells.build(ps.x, n, 2.0 * r_max + skin, ws.cell_start, ws.cell_items);
-  // Each unordered pair once (local index j > i), then ordered by gid.
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec<D> xi = ps.x[i];
-    const double ri = ps.radius[i] + skin;
-    cells.for_each_near(xi, [&](std::int32_t jj) {
-      const auto j = static_cast<std::size_t>(jj);
-      if (j <= i || (i >= n_own && j >= n_own) || ps.gid[i] == ps.gid[j]) return;
-      const double reach = ri + ps.radius[j];
-      if ((ps.x[j] - xi).squaredNorm() >= reach * reach) return;
-      const bool i_first = ps.gid[i] < ps.gid[j];
-      const std::size_t a = i_first ? i : j, b = i_first ? j : i;
-      if (bond_slot<D>(ps.bonds[a], ps.gid[b]) >= 0) return;  // listed as a bond
-      DemPair<D> pr;
-      pr.a = static_cast<std::int32_t>(a);
-      pr.b = static_cast<std::int32_t>(b);
-      // A stored history is a contact that was active at the last evaluation:
-      // it stays active, and goes back to the slots, until the next one
-      // decides (a rebuild before any evaluation, as at a restart, must not
-      // drop it).
-      if (const DemContact<D>* c = contact_history<D>(ps.contacts[a], ps.gid[b])) {
-        pr.xi = c->xi;
-        pr.active = true;
-      }
-      damping.set(ps, pr);
-      ws.pairs.push_back(pr);
-    });
-  }
+  // Each unordered pair once, then ordered by gid. The order they are found
+  // in does not matter: each owned particle sums its pairs by partner gid.
+  // The distance test reads the pair from its lower local index, as a walk
+  // over particles finding their later neighbours does (the same bits).
+  cells.for_each_pair([&](std::int32_t ii, std::int32_t jj) {
+    const auto i = static_cast<std::size_t>(std::min(ii, jj));
+    const auto j = static_cast<std::size_t>(std::max(ii, jj));
+    if ((i >= n_own && j >= n_own) || ps.gid[i] == ps.gid[j]) return;
+    const double reach = (ps.radius[i] + skin) + ps.radius[j];
+    if ((ps.x[j] - ps.x[i]).squaredNorm() >= reach * reach) return;
+    const bool i_first = ps.gid[i] < ps.gid[j];
+    const std::size_t a = i_first ? i : j, b = i_first ? j : i;
+    if (bond_slot<D>(ps.bonds[a], ps.gid[b]) >= 0) return;  // listed as a bond
+    DemPair<D> pr;
+    pr.a = static_cast<std::int32_t>(a);
+    pr.b = static_cast<std::int32_t>(b);
+    // A stored history is a contact that was active at the last evaluation:
+    // it stays active, and goes back to the slots, until the next one
+    // decides (a rebuild before any evaluation, as at a restart, must not
+    // drop it).
+    if (const DemContact<D>* c = contact_history<D>(ps.contacts[a], ps.gid[b])) {
+      pr.xi = c->xi;
+      pr.active = true;
+    }
+    damping.set(ps, pr);
+    ws.pairs.push_back(pr);
+  });
 
   // Per owned particle, its pairs by partner gid.
   std::vector<std::int32_t> count(n_own + 1, 0);

@@ -83,6 +83,38 @@ class CellList {
     }
   }
 
+  // Calls f(i, j) once for every unordered pair of particles i != j whose
+  // cells are the same or adjacent: the pairs for_each_near finds from
+  // both ends, each found once. Per cell, the pairs inside it (j after i
+  // in the cell's items), then with each of the cells after it in the
+  // linear order among its neighbours (13 in 3D, 4 in 2D): half the cells
+  // and candidates of calling for_each_near for every particle.
+  template <class F>
+  void for_each_pair(F&& f) const {
+    const std::vector<std::int32_t>& start = *start_;
+    const std::vector<std::int32_t>& items = *items_;
+    const std::int64_t nz = D == 3 ? dims_[2] : 1;
+    for (std::int64_t cz = 0; cz < nz; ++cz)
+      for (std::int64_t cy = 0; cy < dims_[1]; ++cy)
+        for (std::int64_t cx = 0; cx < dims_[0]; ++cx) {
+          const std::int64_t k = cx + dims_[0] * (cy + dims_[1] * cz);
+          const std::int32_t s0 = start[k], s1 = start[k + 1];
+          if (s0 == s1) continue;
+          for (std::int32_t a = s0; a < s1; ++a)
+            for (std::int32_t b = a + 1; b < s1; ++b) f(items[a], items[b]);
+          for (std::int64_t dz = 0; dz <= (D == 3 ? 1 : 0); ++dz)
+            for (std::int64_t dy = dz > 0 ? -1 : 0; dy <= 1; ++dy)
+              for (std::int64_t dx = dz > 0 || dy > 0 ? -1 : 1; dx <= 1; ++dx) {
+                const std::int64_t x = cx + dx, y = cy + dy, z = cz + dz;
+                if (x < 0 || x >= dims_[0] || y < 0 || y >= dims_[1] || z >= nz) continue;
+                const std::int64_t m = x + dims_[0] * (y + dims_[1] * z);
+                const std::int32_t t0 = start[m], t1 = start[m + 1];
+                for (std::int32_t a = s0; a < s1; ++a)
+                  for (std::int32_t b = t0; b < t1; ++b) f(items[a], items[b]);
+              }
+        }
+  }
+
  private:
   std::int64_t coord(const Vec<D>& p, int d) const {
     const auto c = static_cast<std::int64_t>(std::floor((p[d] - lo_[d]) / cell_));
