@@ -1,16 +1,19 @@
 #pragma once
 // Two runs' owned particles, matched by global id, hold the same bits:
-// density, pressure, position and velocity (ASSERTs inside, so the first
-// difference ends the comparison). Returns the resin particles compared.
+// resin and wall particles their density, pressure, position and velocity,
+// fiber particles their position and velocity (ASSERTs inside, so the
+// first difference ends the comparison).
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <map>
 
+#include "sphdem/particles/dem_particles.hpp"
 #include "sphdem/particles/particles.hpp"
 
 namespace sphdem::testing {
 
+// Returns the resin particles compared.
 template <int D>
 int expect_same_particles(const SphParticles<D>& pa, const SphParticles<D>& pb) {
   int fluid = 0;
@@ -31,6 +34,27 @@ int expect_same_particles(const SphParticles<D>& pa, const SphParticles<D>& pb) 
     }
   }();
   return fluid;
+}
+
+// Returns the fiber particles compared.
+template <int D>
+int expect_same_particles(const DemParticles<D>& fa, const DemParticles<D>& fb) {
+  int compared = 0;
+  [&] {
+    ASSERT_EQ(fa.n_owned, fb.n_owned);
+    std::map<std::int64_t, std::size_t> at;
+    for (std::size_t i = 0; i < fb.n_owned; ++i) at[fb.gid[i]] = i;
+    for (std::size_t i = 0; i < fa.n_owned; ++i) {
+      const auto j = at.find(fa.gid[i]);
+      ASSERT_NE(j, at.end()) << "fiber particle " << fa.gid[i] << " only in the first run";
+      for (int d = 0; d < D; ++d) {
+        ASSERT_EQ(fa.x[i][d], fb.x[j->second][d]) << "fiber particle " << fa.gid[i];
+        ASSERT_EQ(fa.v[i][d], fb.v[j->second][d]) << "fiber particle " << fa.gid[i];
+      }
+      ++compared;
+    }
+  }();
+  return compared;
 }
 
 }  // namespace sphdem::testing
