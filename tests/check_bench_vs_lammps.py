@@ -80,17 +80,24 @@ expect("-n 2" in out, "the 2-rank runs")
 expect(not os.path.exists(os.path.join(work, "dry")), "the dry run creates nothing")
 expect(had_peer_dir or not os.path.exists(peer_dir), "the dry run builds nothing")
 
-# Stand-ins: they log their arguments, lmp answers -h with its packages.
+
+def stand_ins(prefix, log, what):
+    """bench_sph and lmp stand-ins that append "sphdem WHAT" or "lammps WHAT"
+    to log (WHAT a shell word); lmp answers -h with its packages."""
+    bench, lmp = os.path.join(work, prefix + "bench_sph"), os.path.join(work, prefix + "lmp")
+    with open(bench, "w") as f:
+        f.write(f'#!/bin/sh\necho "sphdem {what}" >> {log}\n')
+    with open(lmp, "w") as f:
+        f.write(f'#!/bin/sh\nif [ "$1" = -h ]; then printf "Installed packages:\\n\\nBPM GRANULAR SPH\\n"; '
+                f'exit 0; fi\necho "lammps {what}" >> {log}\n')
+    os.chmod(bench, 0o755)
+    os.chmod(lmp, 0o755)
+    return bench, lmp
+
+
+# Stand-ins that log their arguments.
 log = os.path.join(work, "calls.log")
-fake_bench = os.path.join(work, "bench_sph")
-fake_lmp = os.path.join(work, "lmp")
-with open(fake_bench, "w") as f:
-    f.write(f'#!/bin/sh\necho "sphdem $*" >> {log}\n')
-with open(fake_lmp, "w") as f:
-    f.write(f'#!/bin/sh\nif [ "$1" = -h ]; then printf "Installed packages:\\n\\nBPM GRANULAR SPH\\n"; '
-            f'exit 0; fi\necho "lammps $*" >> {log}\n')
-os.chmod(fake_bench, 0o755)
-os.chmod(fake_lmp, 0o755)
+fake_bench, fake_lmp = stand_ins("", log, "$*")
 r = run("--cases", "21k", "--ranks", "1", "--rounds", "2", "--steps", "10", "--bench", fake_bench,
         "--set", "numerics.delta_sph=0.1", "--out", os.path.join(work, "real"),
         env={"LMP": fake_lmp, "PATH": "/usr/bin:/bin"})
@@ -108,16 +115,7 @@ expect(row is not None, "one table row: median (min-max) of three ratios")
 # --pin: every run of both codes on the given CPUs (the stand-ins log the
 # CPUs the kernel lets them run on).
 pin_log = os.path.join(work, "pin.log")
-pin_bench = os.path.join(work, "pin_bench_sph")
-pin_lmp = os.path.join(work, "pin_lmp")
-allowed = "$(grep Cpus_allowed_list /proc/$$/status | cut -f2)"
-with open(pin_bench, "w") as f:
-    f.write(f'#!/bin/sh\necho "sphdem {allowed}" >> {pin_log}\n')
-with open(pin_lmp, "w") as f:
-    f.write(f'#!/bin/sh\nif [ "$1" = -h ]; then printf "Installed packages:\\n\\nBPM GRANULAR SPH\\n"; '
-            f'exit 0; fi\necho "lammps {allowed}" >> {pin_log}\n')
-os.chmod(pin_bench, 0o755)
-os.chmod(pin_lmp, 0o755)
+pin_bench, pin_lmp = stand_ins("pin_", pin_log, "$(grep Cpus_allowed_list /proc/$$/status | cut -f2)")
 r = run("--cases", "21k", "--ranks", "1", "--rounds", "1", "--steps", "10", "--bench", pin_bench,
         "--pin", "0", "--out", os.path.join(work, "pin"), env={"LMP": pin_lmp, "PATH": "/usr/bin:/bin"})
 print(r.stdout, r.stderr)
