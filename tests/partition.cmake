@@ -15,4 +15,14 @@ print('ok', len(r), 'rows')\" '${_csv}'")
 add_test(NAME partition_cli_bad_ranks
          COMMAND sh -c "out=$('$<TARGET_FILE:sphdem>' partition '${_plate}' --ranks 4,0 2>&1); \
 rc=$?; echo \"$out\"; [ $rc -eq 2 ] && echo \"$out\" | grep -q -- \"--ranks: '0' is not a positive\"")
-set_tests_properties(partition_cli_plate partition_cli_bad_ranks PROPERTIES LABELS "cli" TIMEOUT 120)
+# A domain too large for the decomposition's cells (past 2^40): bad input
+# (status 2) at the case file's line and key, as `sphdem run` says it.
+set(_huge ${CMAKE_CURRENT_BINARY_DIR}/partition_huge_domain.yaml)
+add_test(NAME partition_cli_huge_domain
+         COMMAND sh -c "cat '${_plate}' > '${_huge}' && \
+echo 'domain: {min: [-5.0e3, -5.0e3], max: [5.0e3, 5.0e3]}' >> '${_huge}' && \
+line=$(wc -l < '${_huge}') && out=$('$<TARGET_FILE:sphdem>' partition '${_huge}' --ranks 2 2>&1); \
+rc=$?; echo \"$out\"; [ $rc -eq 2 ] && \
+echo \"$out\" | grep -q \"partition_huge_domain.yaml:$line: key 'domain': .*more than 2^40 cells\"")
+set_tests_properties(partition_cli_plate partition_cli_bad_ranks partition_cli_huge_domain
+                     PROPERTIES LABELS "cli" TIMEOUT 120)

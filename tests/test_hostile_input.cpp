@@ -236,19 +236,25 @@ TEST(HostileInput, MoldFarFromTheOriginIsRefused) {
       << e.what();
 }
 
+// kMinimal + `extra` loads, and building its run on one rank fails with an
+// InputError at `line`, `key`, with `message` in it: the checks made at
+// the start of a run, not by the loader.
+void expect_run_error(std::string_view extra, int line, const std::string& key,
+                      std::string_view message) {
+  const Comm self(MPI_COMM_SELF);
+  const Case c = load_case_from_string(std::string(kMinimal) + std::string(extra), kFile);
+  const InputError e = error_of([&] { Simulation<2> sim(c, self, testing::quiet()); });
+  EXPECT_EQ(e.key(), key) << e.what();
+  EXPECT_EQ(e.line(), line) << e.what();
+  EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+}
+
 // A domain too large for the decomposition's cells: an InputError at
 // `domain` from the decomposition, before the filling (main cast
 // floor(2e300 / cut-off) to long: one cell, then the filling's error).
 TEST(HostileInput, DomainTooLargeForTheDecompositionIsRefused) {
-  const Comm self(MPI_COMM_SELF);
-  const Case c = load_case_from_string(
-      std::string(kMinimal) +
-          "domain: {min: [-1.0e300, -1.0e300], max: [1.0e300, 1.0e300]}  # 14\n",
-      kFile);
-  const InputError e = error_of([&] { Simulation<2> sim(c, self, testing::quiet()); });
-  EXPECT_EQ(e.key(), "domain") << e.what();
-  EXPECT_EQ(e.line(), 14);
-  EXPECT_NE(std::string(e.what()).find("decomposition"), std::string::npos) << e.what();
+  expect_run_error("domain: {min: [-1.0e300, -1.0e300], max: [1.0e300, 1.0e300]}  # 14\n", 14,
+                   "domain", "decomposition");
 }
 
 // Front events over a domain whose trapped-air grid (cells of half the
@@ -256,16 +262,11 @@ TEST(HostileInput, DomainTooLargeForTheDecompositionIsRefused) {
 // would overflow nothing here, but allocate 24 B per cell at the first
 // output).
 TEST(HostileInput, TrappedAirGridPast2To31CellsIsRefused) {
-  const Comm self(MPI_COMM_SELF);
-  const Case c = load_case_from_string(std::string(kMinimal) +
-                                           "domain: {min: [0, 0], max: [30, 9]}  # 14\n"
-                                           "output:                      # 15\n"
-                                           "  front_events: true         # 16\n",
-                                       kFile);
-  const InputError e = error_of([&] { Simulation<2> sim(c, self, testing::quiet()); });
-  EXPECT_EQ(e.key(), "output.front_events") << e.what();
-  EXPECT_EQ(e.line(), 16);
-  EXPECT_NE(std::string(e.what()).find("trapped-air grid"), std::string::npos) << e.what();
+  expect_run_error(
+      "domain: {min: [0, 0], max: [30, 9]}  # 14\n"
+      "output:                      # 15\n"
+      "  front_events: true         # 16\n",
+      16, "output.front_events", "trapped-air grid");
 }
 
 // The memory guard's error points at the dominant key's line.

@@ -101,6 +101,37 @@ TEST(Partition, ReportsTheRunsTopLevelCells) {
   EXPECT_EQ(fine.rows[0].nonempty_blocks, fine.nonempty_cells);
 }
 
+// A grid past 2^40 cells (kMaxGridCells) is bad input naming the case's
+// key, the domain or else the mold the domain defaults to, as in a run;
+// refused before the particles (the mold here would take about 10^8 wall
+// particles).
+TEST(Partition, GridPast2To40CellsNamesTheKey) {
+  const std::string head = R"(dimension: 2
+resin: {density: 900, viscosity: 0.1, sound_speed: 60}
+numerics: {spacing: 3.0e-4, end_time: 0.1}
+fill: [box: {min: [0, 0], max: [0.03, 0.02]}]
+)";
+  const std::string small_mold = "mold: {shapes: [box: {min: [0, 0], max: [0.03, 0.03]}]}\n";
+  const std::string huge_mold = "mold: {shapes: [box: {min: [0, 0], max: [1.0e4, 1.0e4]}]}\n";
+  const std::string huge_domain = "domain: {min: [-5.0e3, -5.0e3], max: [5.0e3, 5.0e3]}\n";
+  const struct {
+    std::string text, key;
+    int line;
+  } cases[] = {{head + small_mold + huge_domain, "domain", 6}, {head + huge_mold, "mold", 5}};
+  for (const auto& k : cases) {
+    const Case c = load_case_from_string(k.text, "huge.yaml");
+    try {
+      partition_report(c, {2});
+      ADD_FAILURE() << k.key << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), "huge.yaml") << e.what();
+      EXPECT_EQ(e.line(), k.line) << e.what();
+      EXPECT_EQ(e.key(), k.key) << e.what();
+      EXPECT_NE(std::string(e.what()).find("more than 2^40 cells"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(Partition, RankListParsing) {
   EXPECT_EQ(app::parse_rank_list("64,256,1024,4096"), (std::vector<int>{64, 256, 1024, 4096}));
   EXPECT_EQ(app::parse_rank_list("1"), (std::vector<int>{1}));

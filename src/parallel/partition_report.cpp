@@ -9,9 +9,11 @@
 #include <limits>
 #include <numeric>
 #include <ostream>
+#include <stdexcept>
 #include <utility>
 
 #include "partition_graph.hpp"
+#include "sphdem/config/config.hpp"
 #include "sphdem/geometry/geometry.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
 #include "sphdem/parallel/comm.hpp"
@@ -182,6 +184,20 @@ PartitionStats measure(const Box<D>& domain, const std::array<bool, 3>& periodic
   return s;
 }
 
+// The fine grid (blocks of one cell). A domain too large for its cells
+// (past kMaxGridCells) is the case's fault, the domain's or the mold's it
+// defaults to, as in a run (ResinModule): an InputError naming the key.
+// measure() builds the same grid for every rank count.
+template <int D>
+Decomposition<D> fine_decomposition(const Case& c, const Box<D>& domain, double cutoff) {
+  try {
+    return Decomposition<D>(Comm(MPI_COMM_SELF), domain, c.periodic, cutoff,
+                            std::numeric_limits<long>::max());
+  } catch (const std::length_error& e) {
+    throw input_error_at(c, c.domain_lo ? "domain" : "mold", e.what());
+  }
+}
+
 template <int D>
 PartitionReport report(const Case& c, const std::vector<int>& ranks) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -189,21 +205,21 @@ PartitionReport report(const Case& c, const std::vector<int>& ranks) {
   r.case_name = c.name;
   r.dimension = D;
   r.spacing = c.numerics.spacing;
-  SphParticles<D> ps;
-  const InitialCounts counts = build_initial_particles<D>(c, ps);
-  r.fluid = static_cast<std::int64_t>(counts.fluid);
-  r.wall = static_cast<std::int64_t>(counts.wall);
   // The grid exactly as the resin module builds it (its NeighborList's
-  // cut-off); the communicator only matters to partition(), which is not
-  // called.
+  // cut-off), before the particles as there: a domain too large for it is
+  // refused at once; the communicator only matters to partition(), which
+  // is not called.
   const NeighborList<D> nl(2.0 * c.h(), c.numerics.neighbor_skin * 2.0 * c.h());
   r.cutoff = nl.cutoff();
   // Blocks of one cell: the fine grid's load, which every rank count's
   // blocks then sum.
   const Box<D> domain = simulation_domain<D>(c);
-  const Decomposition<D> dec(Comm(MPI_COMM_SELF), domain, c.periodic, nl.cutoff(),
-                             std::numeric_limits<long>::max());
+  const Decomposition<D> dec = fine_decomposition<D>(c, domain, nl.cutoff());
   r.dims = dec.grid().dims();
+  SphParticles<D> ps;
+  const InitialCounts counts = build_initial_particles<D>(c, ps);
+  r.fluid = static_cast<std::int64_t>(counts.fluid);
+  r.wall = static_cast<std::int64_t>(counts.wall);
   const CellLoad load = cell_load<D>(dec, ps);
   ps = SphParticles<D>();  // the counts per cell are all that is needed now
   r.nonempty_cells = load.nonempty();
