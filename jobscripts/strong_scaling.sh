@@ -1,7 +1,7 @@
 #!/bin/bash
 # (bench_sph's channel only; any case file: `sphdem scaling`, docs/scaling.md.)
 # Strong scaling: the same 2D channel (default 1440 x 140 resin particles,
-# 210k with walls) on 1, 2, ... ranks; the best of REPEAT runs (default 3)
+# 207k with walls) on 1, 2, ... ranks; the best of REPEAT runs (default 3)
 # per rank count. Writes CSV: ranks,particles,steps,seconds,particle_steps_per_s
 #   jobscripts/strong_scaling.sh [RANKS...] > strong.csv     (default: 1 2)
 #   RANKS come from the arguments; NX, NY, STEPS, REPEAT and BENCH from the environment.

@@ -1,6 +1,7 @@
 // `sphdem partition` (docs/scaling.md): the report partitions the same cell
-// grid a run builds, balances the plate case, and says so when there are
-// more ranks than non-empty cells instead of failing.
+// grid a run builds (with implicit fiber bonds too), balances the plate
+// case, and says so when there are more ranks than non-empty cells instead
+// of failing.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -49,6 +50,34 @@ TEST(Partition, GridIsTheRunsGrid) {
   EXPECT_EQ(r.dims, sim.decomposition().grid().dims());
   EXPECT_EQ(r.fluid, sim.global_fluid_count());
   EXPECT_EQ(r.wall, sim.global_wall_count());
+  EXPECT_DOUBLE_EQ(r.min_cell, r.cutoff);  // no fibers: the cut-off alone
+  EXPECT_NE(format_partition_table(r).find("(cells >= cut-off "), std::string::npos);
+}
+
+// With implicit bonds a run's cells are at least a fiber's chain reach
+// (resin_min_cell): here 1.1 x 7 x 0.25 mm = 1.93 mm against the cut-off's
+// 0.83 mm. The report must build, partition and print that grid, not the
+// cut-off's.
+TEST(Partition, GridIsTheRunsGridWithImplicitBonds) {
+  const Case c = load_case(std::string(SPHDEM_SOURCE_DIR) + "/inputs/plate_fibers_glass.yaml",
+                           {"fibers.particles_per_fiber=8", "fibers.count=20"});
+  ASSERT_TRUE(c.fibers && c.fibers->implicit_bonds);
+  const Comm self(MPI_COMM_SELF);
+  RunOptions opt;
+  opt.write_output = false;
+  const Simulation<2> sim(c, self, opt);
+  const PartitionReport r = partition_report(c, {2, 4});
+  ASSERT_GT(implicit_chain_reach(c), 2 * r.cutoff);  // else the grids would not differ
+  const auto dims = sim.decomposition().grid().dims();
+  EXPECT_EQ(r.dims, dims);
+  EXPECT_DOUBLE_EQ(r.min_cell, implicit_chain_reach(c));
+  EXPECT_EQ(r.fluid, sim.global_fluid_count());
+  EXPECT_EQ(r.wall, sim.global_wall_count());
+  const std::string table = format_partition_table(r);
+  const std::string grid = "cell grid " + std::to_string(dims[0]) + " x " +
+                           std::to_string(dims[1]) + " (cells >= 0.001925 m, a fiber's chain reach";
+  EXPECT_NE(table.find(grid), std::string::npos) << table;
+  for (const PartitionStats& s : r.rows) EXPECT_TRUE(s.feasible) << s.ranks << " ranks";
 }
 
 TEST(Partition, MoreRanksThanCellsIsReportedNotFatal) {

@@ -46,8 +46,9 @@ Quote only ratios measured this way: a figure divided by another day's
 peer number is not comparable (bench/peers/lammps/README.md).
 
 options:
-  --cases "21k 99k"    channels: 21k = 320 x 60 (21,120 particles with walls),
-                       99k = 720 x 132 (99,360); DEM decks: bpm175 (5 x 5 x 7
+  --cases "21k 99k"    channels: 21k = 320 x 60 (19,200 resin; with walls 20,480
+                       in sphdem, 21,120 in the peer deck), 99k = 720 x 132
+                       (95,040; 97,920 and 99,360); DEM decks: bpm175 (5 x 5 x 7
                        fibers of 4 spheres), bpm4800 (20 x 20 x 12) [$CASES]
   --ranks "1 2"        MPI rank counts                          [$RANKS]
   --rounds N           alternating rounds per case and rank count [$ROUNDS]

@@ -19,6 +19,7 @@
 #include "sphdem/parallel/comm.hpp"
 #include "sphdem/parallel/decomposition.hpp"
 #include "sphdem/parallel/timers.hpp"
+#include "sphdem/solver/resin_cells.hpp"
 
 namespace sphdem {
 
@@ -152,12 +153,12 @@ void add_memory(const Decomposition<D>& dec, long nonempty, PartitionStats& s) {
 }
 
 template <int D>
-PartitionStats measure(const Box<D>& domain, const std::array<bool, 3>& periodic, double cutoff,
+PartitionStats measure(const Box<D>& domain, const std::array<bool, 3>& periodic, double min_cell,
                        const CellLoad& load, int ranks, const ParallelSettings& top) {
   PartitionStats s;
   s.ranks = ranks;
   // The decomposition a run on `ranks` ranks builds: its blocks and their work.
-  const Decomposition<D> dec(Comm(MPI_COMM_SELF), domain, periodic, cutoff,
+  const Decomposition<D> dec(Comm(MPI_COMM_SELF), domain, periodic, min_cell,
                              max_blocks(ranks, top.min_top_cells, top.top_cells_per_rank));
   const CellGrid<D>& grid = dec.grid();
   std::vector<std::int64_t> work(static_cast<std::size_t>(dec.blocks()), 0);
@@ -189,9 +190,9 @@ PartitionStats measure(const Box<D>& domain, const std::array<bool, 3>& periodic
 // defaults to, as in a run (ResinModule): an InputError naming the key.
 // measure() builds the same grid for every rank count.
 template <int D>
-Decomposition<D> fine_decomposition(const Case& c, const Box<D>& domain, double cutoff) {
+Decomposition<D> fine_decomposition(const Case& c, const Box<D>& domain, double min_cell) {
   try {
-    return Decomposition<D>(Comm(MPI_COMM_SELF), domain, c.periodic, cutoff,
+    return Decomposition<D>(Comm(MPI_COMM_SELF), domain, c.periodic, min_cell,
                             std::numeric_limits<long>::max());
   } catch (const std::length_error& e) {
     throw input_error_at(c, c.domain_lo ? "domain" : "mold", e.what());
@@ -206,15 +207,16 @@ PartitionReport report(const Case& c, const std::vector<int>& ranks) {
   r.dimension = D;
   r.spacing = c.numerics.spacing;
   // The grid exactly as the resin module builds it (its NeighborList's
-  // cut-off), before the particles as there: a domain too large for it is
-  // refused at once; the communicator only matters to partition(), which
-  // is not called.
+  // cut-off, or a fiber's chain reach with implicit bonds: resin_min_cell),
+  // before the particles as there: a domain too large for it is refused at
+  // once; the communicator only matters to partition(), which is not called.
   const NeighborList<D> nl(2.0 * c.h(), c.numerics.neighbor_skin * 2.0 * c.h());
   r.cutoff = nl.cutoff();
+  r.min_cell = resin_min_cell(c, nl.cutoff());
   // Blocks of one cell: the fine grid's load, which every rank count's
   // blocks then sum.
   const Box<D> domain = simulation_domain<D>(c);
-  const Decomposition<D> dec = fine_decomposition<D>(c, domain, nl.cutoff());
+  const Decomposition<D> dec = fine_decomposition<D>(c, domain, r.min_cell);
   r.dims = dec.grid().dims();
   SphParticles<D> ps;
   const InitialCounts counts = build_initial_particles<D>(c, ps);
@@ -225,7 +227,7 @@ PartitionReport report(const Case& c, const std::vector<int>& ranks) {
   r.nonempty_cells = load.nonempty();
   r.setup_seconds = seconds_since(t0);
   for (int p : ranks)
-    r.rows.push_back(measure<D>(domain, c.periodic, nl.cutoff(), load, p, c.parallel));
+    r.rows.push_back(measure<D>(domain, c.periodic, r.min_cell, load, p, c.parallel));
   return r;
 }
 
@@ -248,11 +250,18 @@ std::string format_partition_table(const PartitionReport& r) {
   const int d = r.dimension;
   std::string dims = fmt::format("{}", r.dims[0]);
   for (int k = 1; k < d; ++k) dims += fmt::format(" x {}", r.dims[static_cast<std::size_t>(k)]);
+  const std::string cells =
+      r.min_cell > r.cutoff
+          ? fmt::format(
+                "cells >= {:.4g} m, a fiber's chain reach with implicit bonds; cut-off "
+                "{:.4g} m",
+                r.min_cell, r.cutoff)
+          : fmt::format("cells >= cut-off {:.4g} m", r.cutoff);
   std::string out = fmt::format(
       "case '{}' ({}D): {} resin + {} wall particles, spacing {:.4g} m\n"
-      "cell grid {} (cells >= cut-off {:.4g} m), {} non-empty cells; set-up {:.2f} s\n"
+      "cell grid {} ({}), {} non-empty cells; set-up {:.2f} s\n"
       "halo per step: {} B per ghost + {} B per wall ghost (forward State, WallState)\n\n",
-      r.case_name, d, r.fluid, r.wall, r.spacing, dims, r.cutoff, r.nonempty_cells, r.setup_seconds,
+      r.case_name, d, r.fluid, r.wall, r.spacing, dims, cells, r.nonempty_cells, r.setup_seconds,
       forward_bytes(d, SphGroup::State), forward_bytes(d, SphGroup::WallState));
   out += fmt::format(
       "{:>6} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9} {:>10} {:>5} {:>8} "

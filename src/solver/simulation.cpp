@@ -19,6 +19,7 @@
 #include "sphdem/parallel/exact_sum.hpp"
 #include "sphdem/parallel/ordered_sum.hpp"
 #include "sphdem/solver/fiber_module.hpp"
+#include "sphdem/solver/resin_cells.hpp"
 #include "sphdem/solver/resin_module.hpp"
 #include "sphdem/solver/solver.hpp"
 #include "sphdem/sph/fluid_rates.hpp"
@@ -42,6 +43,10 @@ Decomposition<D> case_decomposition(const Comm& comm, const Case& c, const Box<D
 
 }  // namespace
 
+double resin_min_cell(const Case& c, double neighbor_cutoff) {
+  return std::max(neighbor_cutoff, implicit_chain_reach(c));
+}
+
 template <int D>
 ResinModule<D>::ResinModule(const RunContext<D>& ctx)
     : ctx_(ctx),
@@ -53,9 +58,7 @@ ResinModule<D>::ResinModule(const RunContext<D>& ctx)
       eos_(case_.resin.density, case_.resin.sound_speed, case_.resin.gamma),
       domain_(simulation_domain<D>(case_)),
       nl_(2.0 * case_.h(), case_.numerics.neighbor_skin * 2.0 * case_.h()),
-      // Cells at least a fiber long with implicit bonds (fiber_module.hpp).
-      dec_(case_decomposition<D>(comm_, case_, domain_,
-                                 std::max(nl_.cutoff(), implicit_chain_reach(case_)),
+      dec_(case_decomposition<D>(comm_, case_, domain_, resin_min_cell(case_, nl_.cutoff()),
                                  max_blocks(comm_.size(), case_.parallel.min_top_cells,
                                             case_.parallel.top_cells_per_rank))) {
   // The trapped-air grid of the front events: too many cells is the

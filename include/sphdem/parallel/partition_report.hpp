@@ -47,6 +47,9 @@ struct PartitionReport {
   std::string case_name;
   int dimension = 2;
   double spacing = 0, cutoff = 0;
+  // The cells' smallest edge, as in a run (resin_min_cell): the cut-off, or
+  // a fiber's chain reach with implicit bonds when that is larger.
+  double min_cell = 0;
   std::int64_t fluid = 0, wall = 0;
   std::array<long, 3> dims{1, 1, 1};  // cells per axis
   long nonempty_cells = 0;
