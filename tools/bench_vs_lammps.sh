@@ -41,7 +41,10 @@ The DEM cases bpm175 and bpm4800 alternate bench/bench_dem.cpp (--dim 3)
 with the BPM deck bench/peers/lammps/in.bpm_fibers_3d the same way and print
 sphdem / LAMMPS BPM wall time; with more than one rank count, every case
 also prints sphdem's speed-up from the first rank count to each other
-(median and range of the per-round ratios of its wall times).
+(median and range of the per-round ratios of its wall times; each round
+runs every rank count, so the ratio compares runs of the same minutes).
+On a machine whose CPUs differ, pin (--pin) to see which CPU a 1-rank
+run's time belongs to (docs/performance.md, "Issue 19's targets").
 Quote only ratios measured this way: a figure divided by another day's
 peer number is not comparable (bench/peers/lammps/README.md).
 
@@ -226,10 +229,12 @@ for c in $SPH_CASES; do
     21k) nx=320; ny=60 ;;
     99k) nx=720; ny=132 ;;
   esac
-  for r in $RANKS; do
-    ours="$mpi -n $r $BENCH --nx $nx --ny $ny --steps $STEPS$sets"
-    lmp_cmd="$mpi -n $r $peer -in $DECK -var nx $nx -var ny $ny -var nsteps $STEPS -log none -screen none"
-    for k in $(seq "$ROUNDS"); do
+  # Rounds outermost: the rank counts alternate too, so the speed-up from
+  # one rank count to another compares runs of the same minutes.
+  for k in $(seq "$ROUNDS"); do
+    for r in $RANKS; do
+      ours="$mpi -n $r $BENCH --nx $nx --ny $ny --steps $STEPS$sets"
+      lmp_cmd="$mpi -n $r $peer -in $DECK -var nx $nx -var ny $ny -var nsteps $STEPS -log none -screen none"
       run hyperfine --runs 1 --style basic --export-json "$OUT/${c}_np${r}_round$k.json" \
         -n sphdem "$ours" -n lammps_cont "$lmp_cmd -var dens cont" -n lammps_sum "$lmp_cmd -var dens sum"
     done
@@ -240,10 +245,10 @@ for c in $DEM_CASES; do
     bpm175) fibers=175; grid=(5 5 7) ;;
     bpm4800) fibers=4800; grid=(20 20 12) ;;
   esac
-  for r in $RANKS; do
-    ours="$mpi -n $r $BENCH_DEM --dim 3 --fibers $fibers --steps $DEM_STEPS --no-breakdown"
-    lmp_cmd="cd $DEM_DECK_DIR && $mpi -n $r $peer -in in.bpm_fibers_3d -var nfx ${grid[0]} -var nfy ${grid[1]} -var nfz ${grid[2]} -var nsteps $DEM_STEPS -log none -screen none"
-    for k in $(seq "$ROUNDS"); do
+  for k in $(seq "$ROUNDS"); do
+    for r in $RANKS; do
+      ours="$mpi -n $r $BENCH_DEM --dim 3 --fibers $fibers --steps $DEM_STEPS --no-breakdown"
+      lmp_cmd="cd $DEM_DECK_DIR && $mpi -n $r $peer -in in.bpm_fibers_3d -var nfx ${grid[0]} -var nfy ${grid[1]} -var nfz ${grid[2]} -var nsteps $DEM_STEPS -log none -screen none"
       run hyperfine --runs 1 --style basic --export-json "$OUT/${c}_np${r}_round$k.json" \
         -n sphdem "$ours" -n lammps_bpm "$lmp_cmd"
     done
