@@ -113,14 +113,12 @@ class Decomposition {
   const CellGrid<D>& block_grid() const { return blocks_; }
   long block_edge() const { return edge_; }
   long blocks() const { return blocks_.cells(); }
-  long block_of_cell(long cell) const {
-    const auto c = grid_.coords_of(cell);
+  // The block holding the cell at coordinates c of grid().
+  long block_of_coords(const typename CellGrid<D>::Coords& c) const {
     return blocks_.index({c[0] / edge_, c[1] / edge_, c[2] / edge_});
   }
-  long block_of(const Vec<D>& x) const {
-    const auto c = grid_.coords(x);
-    return blocks_.index({c[0] / edge_, c[1] / edge_, c[2] / edge_});
-  }
+  long block_of_cell(long cell) const { return block_of_coords(grid_.coords_of(cell)); }
+  long block_of(const Vec<D>& x) const { return block_of_coords(grid_.coords(x)); }
   int owner_of_cell(long cell) const {
     return owner_[static_cast<std::size_t>(block_of_cell(cell))];
   }
@@ -128,8 +126,7 @@ class Decomposition {
   // decoding an index (three integer divisions instead of seven; the ghost
   // build asks for the neighbours of every cell near a rank boundary).
   int owner_of_coords(const typename CellGrid<D>::Coords& c) const {
-    return owner_[static_cast<std::size_t>(
-        blocks_.index({c[0] / edge_, c[1] / edge_, c[2] / edge_}))];
+    return owner_[static_cast<std::size_t>(block_of_coords(c))];
   }
   // Whether `rank` owns every cell of grid() with coordinates in [lo, hi]
   // (inclusive, within the grid): one test per block the box overlaps.
