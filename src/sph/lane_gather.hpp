@@ -10,7 +10,9 @@
 //     transpose in registers: the record's doubles 2p, 2p+1 of neighbours
 //     0 and 2 in one 256-bit register, of 1 and 3 in another, then one
 //     unpack per lane row (docs/performance.md, "The gather as a
-//     transpose").
+//     transpose");
+//   - GatherLanes::eight_quads (with AVX-512), eight at a time, the same
+//     transpose on quads of doubles in 512-bit registers.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -43,6 +45,17 @@ struct GatherLanes<D, Fields<Fs...>> {
     (fill_sources<Lanes, Record, Fs>(s), ...);
     return s;
   }
+
+  // The chunk of neighbours idx[0, cnt) of the records rec, the widest way
+  // this build has (kGatherWidth): idx must hold the last neighbour again in
+  // idx[cnt .. cnt + 2] (a block of eight starts only where it holds five
+  // or more, k + 4 < cnt), and the lanes' rows room for kChunk values. The
+  // pair loop's step 1 (pair_loop.hpp).
+  // Inlined: as a call, the 2D channel's loop took 1.03 times as long.
+  template <class Lanes, class Record, class R>
+  [[gnu::always_inline]] static inline void chunk(const double* own, const R* rec,
+                                                  const std::int32_t* idx, std::size_t cnt,
+                                                  double* lanes);
 
   // Neighbour k of the chunk, record rj (an array element, not a computed
   // pointer: GCC then vectorizes this over k).
@@ -83,6 +96,75 @@ struct GatherLanes<D, Fields<Fs...>> {
   }
 #endif
 
+#if defined(__AVX512F__)
+  // Neighbours k .. k+7 of the chunk (k a multiple of 8), records r[0..7]:
+  // the record's doubles 4q .. 4q+3 of neighbours n and n+4 in one 512-bit
+  // register, then two unpacks and one two-source permute per lane row,
+  // 0.6 instructions per value where four_pairs takes 1 (docs/performance.md,
+  // "The gather eight at a time"). Reads the record's doubles in fours, so
+  // up to three more doubles must be readable after the last record
+  // (kRecordSpare).
+  template <class Lanes, class Record>
+  static void eight_quads(const double* own, const double* const (&r)[8], std::size_t k,
+                          double* lanes) {
+    constexpr LaneSources<Lanes::kSize> s = sources<Lanes, Record>();
+    [&]<std::size_t... L>(std::index_sequence<L...>) {
+      const __m512d rows[] = {row8<s.src[L], s.rel[L]>(own, r)...};
+      (_mm512_store_pd(lanes + L * kChunk + k, rows[L]), ...);
+    }
+    (std::make_index_sequence<Lanes::kSize>{});
+  }
+
+  template <int kSrc, int kRel>
+  static __m512d row8(const double* own, const double* const (&r)[8]) {
+    constexpr int base = kSrc & ~3;
+    // The masked forms with every lane set are the plain instructions; the
+    // unmasked intrinsics pass GCC 12 an undefined vector that
+    // -Wmaybe-uninitialized reports.
+    constexpr __mmask8 kAll = 0xFF;
+    const auto pair = [&](int a) {  // neighbours a and a + 4: [a0 a1 a2 a3 e0 e1 e2 e3]
+      const __m512d lo = _mm512_castpd256_pd512(_mm256_loadu_pd(r[a] + base));
+      return _mm512_mask_insertf64x4(lo, kAll, lo, _mm256_loadu_pd(r[a + 4] + base), 1);
+    };
+    const __m512d z0 = pair(0), z1 = pair(1), z2 = pair(2), z3 = pair(3);
+    // Even kSrc: doubles 0 and 2 of each 128-bit lane; odd: 1 and 3.
+    const auto unpack = [&](__m512d p, __m512d q) {
+      return (kSrc & 1) == 0 ? _mm512_mask_unpacklo_pd(p, kAll, p, q)
+                             : _mm512_mask_unpackhi_pd(p, kAll, p, q);
+    };
+    const __m512d a = unpack(z0, z1), b = unpack(z2, z3);
+    // a = [n0 n1 . . n4 n5 . .], b = [n2 n3 . . n6 n7 . .]: take the first
+    // or the second double pair of each 256-bit half (kSrc & 2).
+    const __m512i pick = (kSrc & 2) == 0 ? _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0)
+                                         : _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
+    const __m512d v = _mm512_permutex2var_pd(a, pick, b);
+    if constexpr (kRel >= 0)
+      return _mm512_sub_pd(_mm512_set1_pd(own[kRel]), v);
+    else
+      return v;
+  }
+
+  // chunk's way with eight_quads. A call of its own: inlined into the
+  // pair loop, the 3D plate took 1.08 times as long (docs/performance.md,
+  // "The gather eight at a time").
+  template <class Lanes, class Record, class R>
+  [[gnu::noinline]] static void eights(const double* own, const R* rec, const std::int32_t* idx, std::size_t cnt,
+                     double* lanes) {
+    std::size_t k = 0;
+    for (; k + 4 < cnt; k += 8) {
+      const double* const r[8] = {rec[idx[k]].v,     rec[idx[k + 1]].v, rec[idx[k + 2]].v,
+                                  rec[idx[k + 3]].v, rec[idx[k + 4]].v, rec[idx[k + 5]].v,
+                                  rec[idx[k + 6]].v, rec[idx[k + 7]].v};
+      eight_quads<Lanes, Record>(own, r, k, lanes);
+    }
+    for (; k < cnt; k += 4) {
+      const double* const r[4] = {rec[idx[k]].v, rec[idx[k + 1]].v, rec[idx[k + 2]].v,
+                                  rec[idx[k + 3]].v};
+      four_pairs<Lanes, Record>(own, r, k, lanes);
+    }
+  }
+#endif
+
  private:
   template <class Lanes, class Record, class F>
   static constexpr void fill_sources(LaneSources<Lanes::kSize>& s) {
@@ -110,11 +192,52 @@ struct GatherLanes<D, Fields<Fs...>> {
   }
 };
 
-// Whether the pair loop gathers four neighbours at a time (four_pairs).
-#if defined(__AVX__)
-inline constexpr bool kGatherFour = true;
+// How many neighbours the pair loop gathers at a time in D dimensions:
+// four (four_pairs) with AVX, else one (run); eight (eight_quads) in 3D
+// with AVX-512. Measured (docs/performance.md, "The gather eight at a
+// time"): eight at a time takes a quarter off the 3D plate's run and
+// makes the 2D channel's 1.05 times slower, whose records sit in L1 and
+// whose 512-bit shuffles cost two of the 256-bit ones.
+template <int D>
+inline constexpr std::size_t kGatherWidth =
+#if defined(__AVX512F__)
+    D == 3 ? 8 : 4;
+#elif defined(__AVX__)
+    4;
 #else
-inline constexpr bool kGatherFour = false;
+    1;
 #endif
+
+template <int D, class... Fs>
+template <class Lanes, class Record, class R>
+inline void GatherLanes<D, Fields<Fs...>>::chunk(const double* own, const R* rec,
+                                                 const std::int32_t* idx, std::size_t cnt,
+                                                 double* lanes) {
+  std::size_t k = 0;
+#if defined(__AVX512F__)
+  if constexpr (kGatherWidth<D> == 8) {
+    // Eight at a time, then a last block of at most four, four at a time.
+    eights<Lanes, Record>(own, rec, idx, cnt, lanes);
+    return;
+  }
+#endif
+#if defined(__AVX__)
+  for (; k < cnt; k += 4) {
+    const double* const r[4] = {rec[idx[k]].v, rec[idx[k + 1]].v, rec[idx[k + 2]].v,
+                                rec[idx[k + 3]].v};
+    four_pairs<Lanes, Record>(own, r, k, lanes);
+  }
+#endif
+  if constexpr (kGatherWidth<D> == 1)
+    for (; k < cnt; ++k) run<Lanes, Record>(own, rec[idx[k]], k, lanes);
+}
+
+// The doubles readable after the last of the packed records of kStride
+// doubles: the gather reads records in fours (eight_quads) or pairs
+// (four_pairs) of doubles.
+template <int D, std::size_t kStride>
+inline constexpr std::size_t kRecordSpare = kGatherWidth<D> == 8   ? (4 - kStride % 4) % 4
+                                            : kGatherWidth<D> == 4 ? kStride % 2
+                                                                   : 0;
 
 }  // namespace sphdem::terms

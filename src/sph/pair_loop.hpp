@@ -348,10 +348,10 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   // fills only those whose inputs changed.
   // They live in the scratch the list build shares (sphdem/core/scratch.hpp).
   const std::size_t n = ps.size();
-  // With an odd record size one double more, which the gather by pairs of
-  // doubles reads (lane_gather.hpp).
-  PackedRecord<kStride>* rec =
-      reinterpret_cast<PackedRecord<kStride>*>(shared_scratch(n * kStride + kStride % 2));
+  // With the doubles after the last record that the gather reads
+  // (kRecordSpare, lane_gather.hpp).
+  PackedRecord<kStride>* rec = reinterpret_cast<PackedRecord<kStride>*>(
+      shared_scratch(n * kStride + kRecordSpare<D, kStride>));
   if (run.redo == nullptr) {
     for (std::size_t i = 0; i < n; ++i)
       FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
@@ -404,24 +404,15 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
       for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
         const std::size_t cnt = std::min(kChunk, e - b);
 
-        // 1. Gather: four neighbours at a time where AVX is there (the last
-        // block repeats the chunk's last neighbour; step 2 reads k < cnt).
-        // The chunk's indices decoded once (16- or 32-bit lists, NeighborRow),
-        // padded with the last one to a multiple of four.
+        // 1. Gather: eight or four neighbours at a time where AVX-512 or AVX
+        // is there (the last block repeats the chunk's last neighbour; step 2
+        // reads k < cnt). The chunk's indices decoded once (16- or 32-bit
+        // lists, NeighborRow), padded with the last one to a whole block.
         using Gather = GatherLanes<D, typename N::LaneFields>;
         alignas(64) std::int32_t idx[kChunk + 3];
         for (std::size_t k = 0; k < cnt; ++k) idx[k] = nb[b + k];
         idx[cnt] = idx[cnt + 1] = idx[cnt + 2] = idx[cnt - 1];
-        if constexpr (kGatherFour) {
-          for (std::size_t k = 0; k < cnt; k += 4) {
-            const double* const r[4] = {rec[idx[k]].v, rec[idx[k + 1]].v, rec[idx[k + 2]].v,
-                                        rec[idx[k + 3]].v};
-            Gather::template four_pairs<Lanes, Record>(own, r, k, lanes);
-          }
-        } else {
-          for (std::size_t k = 0; k < cnt; ++k)
-            Gather::template run<Lanes, Record>(own, rec[idx[k]], k, lanes);
-        }
+        Gather::template chunk<Lanes, Record>(own, rec, idx, cnt, lanes);
 
         // 2. Pair terms, branch-free (vectorized).
         for (std::size_t k = 0; k < cnt; ++k) {

@@ -120,7 +120,10 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
 
   thread_local std::vector<PackedRecord<kStride>> records;
   const std::size_t n = ps.size();
-  resize_field(records, n);  // a small margin, not a doubling
+  // One record more than the particles: the doubles after the last record
+  // that the gather reads (kRecordSpare, lane_gather.hpp).
+  static_assert(kRecordSpare<D, kStride> <= kStride);
+  resize_field(records, n + 1);  // a small margin, not a doubling
   PackedRecord<kStride>* rec = records.data();
   for (std::size_t i = 0; i < n; ++i)
     FillRecord<D, RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
@@ -159,8 +162,12 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
     const NeighborRow nb = nl.row(i);
     for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += block) {
       const std::size_t cnt = std::min(block, e - b);
-      for (std::size_t k = 0; k < cnt; ++k)
-        GatherLanes<D, LaneFields>::template run<Lanes, Record>(own, rec[nb[b + k]], k, lanes);
+      // As the pair loop's step 1 (pair_loop.hpp): the indices padded with
+      // the last one to a whole block of the widest gather.
+      alignas(64) std::int32_t idx[kChunk + 3];
+      for (std::size_t k = 0; k < cnt; ++k) idx[k] = nb[b + k];
+      idx[cnt] = idx[cnt + 1] = idx[cnt + 2] = idx[cnt - 1];
+      GatherLanes<D, LaneFields>::template chunk<Lanes, Record>(own, rec, idx, cnt, lanes);
       for (std::size_t k = 0; k < cnt; ++k) {
         double r2 = 0.0;
         for (int d = 0; d < D; ++d) {
