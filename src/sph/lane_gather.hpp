@@ -148,8 +148,8 @@ struct GatherLanes<D, Fields<Fs...>> {
   // pair loop, the 3D plate took 1.08 times as long (docs/performance.md,
   // "The gather eight at a time").
   template <class Lanes, class Record, class R>
-  [[gnu::noinline]] static void eights(const double* own, const R* rec, const std::int32_t* idx, std::size_t cnt,
-                     double* lanes) {
+  [[gnu::noinline]] static void eights(const double* own, const R* rec, const std::int32_t* idx,
+                                       std::size_t cnt, double* lanes) {
     std::size_t k = 0;
     for (; k + 4 < cnt; k += 8) {
       const double* const r[8] = {rec[idx[k]].v,     rec[idx[k + 1]].v, rec[idx[k + 2]].v,
