@@ -411,7 +411,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
         using Gather = GatherLanes<D, typename N::LaneFields>;
         alignas(64) std::int32_t idx[kChunk + 3];
         for (std::size_t k = 0; k < cnt; ++k) idx[k] = nb[b + k];
-        idx[cnt] = idx[cnt + 1] = idx[cnt + 2] = idx[cnt - 1];
+        idx[cnt] = idx[cnt + 1] = idx[cnt + 2] = nb[b + cnt - 1];  // cnt >= 1
         Gather::template chunk<Lanes, Record>(own, rec, idx, cnt, lanes);
 
         // 2. Pair terms, branch-free (vectorized).

@@ -166,7 +166,7 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
       // the last one to a whole block of the widest gather.
       alignas(64) std::int32_t idx[kChunk + 3];
       for (std::size_t k = 0; k < cnt; ++k) idx[k] = nb[b + k];
-      idx[cnt] = idx[cnt + 1] = idx[cnt + 2] = idx[cnt - 1];
+      idx[cnt] = idx[cnt + 1] = idx[cnt + 2] = nb[b + cnt - 1];  // cnt >= 1
       GatherLanes<D, LaneFields>::template chunk<Lanes, Record>(own, rec, idx, cnt, lanes);
       for (std::size_t k = 0; k < cnt; ++k) {
         double r2 = 0.0;
