@@ -64,18 +64,28 @@ CLI::App* add_partition_command(CLI::App& app, PartitionArgs& a) {
       ->allow_extra_args(false);
   cmd->add_option("--scale", a.scale,
                   "Refine the case: numerics.spacing / N (N^D times the particles; default 1)");
+  cmd->add_option("--fiber-substeps", a.fiber_substeps,
+                  "Weigh the fibers as a coupled run's re-partitions do, at N DEM sub-steps per "
+                  "resin step (default 0: a run's first partition, fibers not weighted)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--csv", a.csv, "Also write the table as CSV to this file");
   cmd->footer(
       "Builds the initial particles serially (run it on one rank), the cell grid and METIS call\n"
-      "of a run, and partitions once per rank count. Columns: particles per rank; imbalance =\n"
-      "max/mean - 1 of the work (10 per resin, 3 per wall particle); ghosts/owned in total and\n"
-      "the largest per rank (ghosts: particles in cells of another rank's 3^D stencil, an upper\n"
-      "bound of the run's halo); halo kB received per step by a rank (the bytes of the field\n"
-      "registry's State group per ghost + WallState group per wall ghost, printed above the\n"
-      "table); neighbor ranks exchanged with; METIS = serial partition time; top cells = the\n"
-      "non-empty top-level cells a run partitions (blocks of edge^D cells, at most\n"
-      "max(64 x ranks, parallel.min_top_cells)); map MB = the block map and work vector every\n"
-      "rank holds; rank 0 MB = its graph, summed work and parts (docs/parallel.md).\n"
+      "of a run, and partitions once per rank count with the weights of a run's first\n"
+      "partition: 10 per resin, 3 per wall particle. A coupled run places its fibers after that\n"
+      "partition (a restart partitions so too) and weighs them only when it re-partitions\n"
+      "(parallel.balance_every, parallel.imbalance_threshold): 5 per fiber particle and DEM\n"
+      "sub-step of the last resin step. --fiber-substeps N places the fibers as a run does and\n"
+      "weighs them so, at N sub-steps (the sub-steps per SPH step `sphdem check` prints).\n"
+      "Columns: particles per rank (resin + wall); imbalance = max/mean - 1 of the work;\n"
+      "ghosts/owned in total and the largest per rank (ghosts: particles in cells of another\n"
+      "rank's 3^D stencil, an upper bound of the run's halo); halo kB received per step by a\n"
+      "rank (the bytes of the field registry's State group per ghost + WallState group per wall\n"
+      "ghost, printed above the table); neighbor ranks exchanged with; METIS = serial partition\n"
+      "time; top cells = the non-empty top-level cells a run partitions (blocks of edge^D\n"
+      "cells, at most max(64 x ranks, parallel.min_top_cells)); map MB = the block map and\n"
+      "work vector every rank holds; rank 0 MB = its graph, summed work and parts\n"
+      "(docs/parallel.md, \"Which weights, when\"; docs/scaling.md).\n"
       "A rank count above the number of non-empty top-level cells is reported, not partitioned.");
   return cmd;
 }
@@ -84,7 +94,7 @@ int run_partition_command(const PartitionArgs& a, const Comm& comm) {
   const std::vector<int> ranks = parse_rank_list(a.ranks);
   const Case c = load_scaled_case(a);
   if (!comm.root()) return 0;  // serial work: the other ranks just wait
-  const PartitionReport r = partition_report(c, ranks);
+  const PartitionReport r = partition_report(c, ranks, a.fiber_substeps);
   std::cout << format_partition_table(r) << std::flush;
   if (!a.csv.empty()) {
     std::ofstream out(a.csv);

@@ -1,6 +1,7 @@
 #pragma once
 // `sphdem partition case.yaml --ranks 64,256,...`: the decomposition at rank
 // counts this machine cannot run (docs/scaling.md).
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@ struct PartitionArgs {
   std::string ranks;  // comma-separated, parsed by parse_rank_list
   std::vector<std::string> sets;
   double scale = 1.0;
+  std::int64_t fiber_substeps = 0;  // > 0: weigh the fibers as a re-partition does
   std::string csv;
 };
 

@@ -14,11 +14,13 @@
 
 #include "partition_graph.hpp"
 #include "sphdem/config/config.hpp"
+#include "sphdem/core/errors.hpp"
 #include "sphdem/geometry/geometry.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
 #include "sphdem/parallel/comm.hpp"
 #include "sphdem/parallel/decomposition.hpp"
 #include "sphdem/parallel/timers.hpp"
+#include "sphdem/solver/fiber_module.hpp"
 #include "sphdem/solver/resin_cells.hpp"
 
 namespace sphdem {
@@ -26,7 +28,11 @@ namespace sphdem {
 namespace {
 
 // What the cells hold at the start: the partition weights exactly as a run
-// computes them (Decomposition::cell_work), and particle counts for the halo.
+// computes them, and particle counts for the halo. The weights are the
+// resin's and walls' (Decomposition::cell_work), the run's first partition
+// (fill_distributed sums the same per lattice node); with fiber sub-steps
+// also the placed fibers' (add_fiber_work), as a re-partition of a coupled
+// run weighs them (ResinModule::cell_work).
 struct CellLoad {
   std::vector<std::int64_t> work;
   std::vector<std::int64_t> fluid, wall;
@@ -48,6 +54,19 @@ CellLoad cell_load(const Decomposition<D>& dec, const SphParticles<D>& ps) {
   return load;
 }
 
+// The case's fibers placed as a run places them (case_fibers: the same
+// fibers at any rank count), their work added to the fine cells; returns
+// the fiber particles.
+template <int D>
+std::int64_t add_fibers(const Case& c, const Decomposition<D>& dec, std::int64_t substeps,
+                        CellLoad& load) {
+  std::vector<int> wall_owner;
+  FiberPlacement placement;
+  const DemSystem<D> fibers = case_fibers<D>(c, wall_owner, placement);
+  add_fiber_work<D>(dec, fibers.particles, fibers.particles.size(), substeps, load.work);
+  return static_cast<std::int64_t>(fibers.particles.size());
+}
+
 // Ghosts at the cell level: every particle of a cell is a ghost on each
 // other rank owning a cell of its 3^D stencil (periodic faces included).
 // The run's halo also tests the distance to the neighbor cell, so it sends
@@ -67,7 +86,7 @@ HaloCounts count_halo(const CellGrid<D>& grid, const CellLoad& load, const std::
   std::vector<int> targets;
   std::array<long, 26> nb;
   for (std::size_t c = 0; c < owner.size(); ++c) {
-    if (load.work[c] == 0) continue;
+    if (load.fluid[c] + load.wall[c] == 0) continue;  // the SPH halo: resin and walls
     const int own = owner[c];
     targets.clear();
     const int n = grid.neighbors(static_cast<long>(c), nb);
@@ -175,6 +194,7 @@ PartitionStats measure(const Box<D>& domain, const std::array<bool, 3>& periodic
   const std::vector<int> block_owner =
       detail::compute_owners<D>(dec.block_grid(), work, {}, false, ranks);
   s.partition_seconds = seconds_since(t0);
+  s.owners = block_owner;
   // The owner of every fine cell, for the halo (this serial tool may hold it).
   std::vector<int> owner(load.work.size());
   for (std::size_t c = 0; c < owner.size(); ++c)
@@ -200,12 +220,13 @@ Decomposition<D> fine_decomposition(const Case& c, const Box<D>& domain, double 
 }
 
 template <int D>
-PartitionReport report(const Case& c, const std::vector<int>& ranks) {
+PartitionReport report(const Case& c, const std::vector<int>& ranks, std::int64_t fiber_substeps) {
   const auto t0 = std::chrono::steady_clock::now();
   PartitionReport r;
   r.case_name = c.name;
   r.dimension = D;
   r.spacing = c.numerics.spacing;
+  r.has_fibers = c.fibers.has_value();
   // The grid exactly as the resin module builds it (its NeighborList's
   // cut-off, or a fiber's chain reach with implicit bonds: resin_min_cell),
   // before the particles as there: a domain too large for it is refused at
@@ -222,8 +243,12 @@ PartitionReport report(const Case& c, const std::vector<int>& ranks) {
   const InitialCounts counts = build_initial_particles<D>(c, ps);
   r.fluid = static_cast<std::int64_t>(counts.fluid);
   r.wall = static_cast<std::int64_t>(counts.wall);
-  const CellLoad load = cell_load<D>(dec, ps);
+  CellLoad load = cell_load<D>(dec, ps);
   ps = SphParticles<D>();  // the counts per cell are all that is needed now
+  if (fiber_substeps > 0) {
+    r.fiber_substeps = fiber_substeps;
+    r.fibers = add_fibers<D>(c, dec, fiber_substeps, load);
+  }
   r.nonempty_cells = load.nonempty();
   r.setup_seconds = seconds_since(t0);
   for (int p : ranks)
@@ -242,8 +267,29 @@ std::size_t forward_bytes(int dim, SphGroup group) {
   return dim == 2 ? group_bytes<2>(group) : group_bytes<3>(group);
 }
 
-PartitionReport partition_report(const Case& c, const std::vector<int>& ranks) {
-  return c.dimension == 2 ? report<2>(c, ranks) : report<3>(c, ranks);
+PartitionReport partition_report(const Case& c, const std::vector<int>& ranks,
+                                 std::int64_t fiber_substeps) {
+  if (fiber_substeps < 0)
+    throw std::invalid_argument("sphdem: partition_report: negative fiber sub-steps");
+  if (fiber_substeps > 0 && !c.fibers)
+    throw InputError("--fiber-substeps", 0, "", "the case has no fibers to weigh");
+  return c.dimension == 2 ? report<2>(c, ranks, fiber_substeps)
+                          : report<3>(c, ranks, fiber_substeps);
+}
+
+std::string partition_work_text(const PartitionReport& r) {
+  std::string text = fmt::format("{} per resin, {} per wall particle", kFluidWork, kWallWork);
+  if (r.fiber_substeps > 0) {
+    return text + fmt::format(
+                      ", {} x {} sub-steps = {} per fiber particle ({} placed): the weights of "
+                      "a coupled run's re-partitions",
+                      kDemSubstepWork, r.fiber_substeps, fiber_particle_work(r.fiber_substeps),
+                      r.fibers);
+  }
+  return text + ": the weights of a run's first partition" +
+         (r.has_fibers ? " (its fibers not weighted: --fiber-substeps weighs them as a "
+                         "re-partition does)"
+                       : "");
 }
 
 std::string format_partition_table(const PartitionReport& r) {
@@ -260,9 +306,11 @@ std::string format_partition_table(const PartitionReport& r) {
   std::string out = fmt::format(
       "case '{}' ({}D): {} resin + {} wall particles, spacing {:.4g} m\n"
       "cell grid {} ({}), {} non-empty cells; set-up {:.2f} s\n"
+      "work: {}\n"
       "halo per step: {} B per ghost + {} B per wall ghost (forward State, WallState)\n\n",
       r.case_name, d, r.fluid, r.wall, r.spacing, dims, cells, r.nonempty_cells, r.setup_seconds,
-      forward_bytes(d, SphGroup::State), forward_bytes(d, SphGroup::WallState));
+      partition_work_text(r), forward_bytes(d, SphGroup::State),
+      forward_bytes(d, SphGroup::WallState));
   out += fmt::format(
       "{:>6} {:>10} {:>10} {:>9} {:>9} {:>11} {:>11} {:>9} {:>9} {:>9} {:>10} {:>5} {:>8} "
       "{:>8}\n",

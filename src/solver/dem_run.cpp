@@ -281,18 +281,21 @@ void FiberModule<D>::check_health(std::string& problem) const {
   }
 }
 
-// On the resin's decomposition: each fiber particle's sub-steps at
-// kDemSubstepWork each (a DEM particle-step costs about half a resin
-// particle-step, measured on the plate: 3 pairs against 20 neighbours).
+template <int D>
+void add_fiber_work(const Decomposition<D>& dec, const DemParticles<D>& f, std::size_t n,
+                    std::int64_t substeps, std::vector<std::int64_t>& work) {
+  const std::int64_t per = fiber_particle_work(substeps);
+  for (std::size_t i = 0; i < n; ++i) work[static_cast<std::size_t>(dec.block_of(f.x[i]))] += per;
+}
+
+// On the resin's decomposition: the owned fiber particles at the sub-steps
+// of the last resin step (fiber_particle_work).
 template <int D>
 void FiberModule<D>::add_cell_work(const Decomposition<D>& dec,
                                    std::vector<std::int64_t>& work) const {
   if (!coupled()) return;
-  constexpr std::int64_t kDemSubstepWork = kFluidWork / 2;
-  const std::int64_t per = kDemSubstepWork * std::max<std::int64_t>(substeps_, 1);
   const DemParticles<D>& f = dem_->particles();
-  for (std::size_t i = 0; i < f.n_owned; ++i)
-    work[static_cast<std::size_t>(dec.block_of(f.x[i]))] += per;
+  add_fiber_work<D>(dec, f, f.n_owned, substeps_, work);
 }
 
 template <int D>
@@ -330,6 +333,10 @@ template DemSystem<2> case_fibers<2>(const Case&, std::vector<int>&, FiberPlacem
                                      const FiberShare<2>*);
 template DemSystem<3> case_fibers<3>(const Case&, std::vector<int>&, FiberPlacement&,
                                      const FiberShare<3>*);
+template void add_fiber_work<2>(const Decomposition<2>&, const DemParticles<2>&, std::size_t,
+                                std::int64_t, std::vector<std::int64_t>&);
+template void add_fiber_work<3>(const Decomposition<3>&, const DemParticles<3>&, std::size_t,
+                                std::int64_t, std::vector<std::int64_t>&);
 template class FiberModule<2>;
 template class FiberModule<3>;
 template class DemRun<2>;

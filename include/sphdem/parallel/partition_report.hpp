@@ -5,6 +5,15 @@
 // partition a run would start from (the same code path,
 // detail::compute_owners), measured for load imbalance, ghosts, halo
 // volume and neighbor ranks. Serial; needs no more than one MPI rank.
+//
+// The weights (docs/parallel.md, "Which weights, when"): a run's first partition
+// (the distributed set-up) weighs resin and wall particles only, kFluidWork
+// and kWallWork each, as a restart's does: the fibers of a coupled run are
+// placed after it, on its cells. Its re-partitions (every
+// parallel.balance_every steps, past parallel.imbalance_threshold) add the
+// fibers' work, fiber_particle_work(sub-steps of the last resin step) per
+// fiber particle. fiber_substeps > 0 weighs the placed fibers so, at that
+// many sub-steps.
 #include <array>
 #include <cstdint>
 #include <iosfwd>
@@ -35,6 +44,9 @@ struct PartitionStats {
   int neighbors_max = 0;          // ranks exchanging ghosts with one rank
   double neighbors_mean = 0;
   double partition_seconds = 0;  // graph, METIS, empty blocks (rank 0 in a run)
+  // The partition: the rank of every block of the block grid below, as a
+  // run's Decomposition::block_owners (empty when not feasible).
+  std::vector<int> owners;
   // The top-level cells (blocks) a run at this rank count partitions
   // (Decomposition::block_grid): all of them, the non-empty ones, the
   // block edge in cells.
@@ -51,6 +63,9 @@ struct PartitionReport {
   // a fiber's chain reach with implicit bonds when that is larger.
   double min_cell = 0;
   std::int64_t fluid = 0, wall = 0;
+  bool has_fibers = false;            // the case has fibers
+  std::int64_t fiber_substeps = 0;    // > 0: the fibers are weighted, at this many sub-steps
+  std::int64_t fibers = 0;            // fiber particles weighted (placed as a run places them)
   std::array<long, 3> dims{1, 1, 1};  // cells per axis
   long nonempty_cells = 0;
   double setup_seconds = 0;  // particles, grid and weights
@@ -59,8 +74,17 @@ struct PartitionReport {
 
 // Builds the case's particles and partitions their graph of top-level cells
 // for every rank count in `ranks` (each >= 1), as a run on that many ranks
-// would. Throws InputError for a bad case.
-PartitionReport partition_report(const Case& c, const std::vector<int>& ranks);
+// would: with the weights of its first partition, or with fiber_substeps >
+// 0 those of a coupled run's re-partitions at the initial positions, the
+// fibers at fiber_substeps DEM sub-steps per resin step. Throws InputError
+// for a bad case, or naming --fiber-substeps for fiber sub-steps in a case
+// without fibers.
+PartitionReport partition_report(const Case& c, const std::vector<int>& ranks,
+                                 std::int64_t fiber_substeps = 0);
+
+// What the report's work counts, one line ("10 per resin, 3 per wall
+// particle: ...").
+std::string partition_work_text(const PartitionReport& r);
 
 // The report as an aligned table (what `sphdem partition` prints).
 std::string format_partition_table(const PartitionReport& r);

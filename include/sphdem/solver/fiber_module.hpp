@@ -9,6 +9,8 @@
 //  - Coupled: on the resin's decomposition, their ghosts as far as the SPH
 //    kernel reaches; DEM sub-steps over each resin step, the drag of the
 //    last coupling pass held.
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -50,6 +52,22 @@ inline constexpr double kFiberDragStep = 1.0;
 // the decomposition the fibers run on are at least this (docs/dem.md,
 // "Implicit bonds").
 double implicit_chain_reach(const Case& c);
+
+// The load-balance work of coupled fibers (docs/parallel.md, "Which
+// weights, when"): each fiber particle costs its DEM sub-steps per resin step
+// (at least 1) at kDemSubstepWork each, a DEM particle-step being about
+// half a resin particle-step (measured on the plate: 3 pairs against 20
+// neighbours). add_fiber_work adds that to the block of `dec` each
+// of the first n particles of `f` lies in: a coupled run's share of
+// ResinModule::cell_work (FiberModule::add_cell_work), and what `sphdem
+// partition --fiber-substeps` weighs the placed fibers with.
+inline constexpr std::int64_t kDemSubstepWork = kFluidWork / 2;
+inline std::int64_t fiber_particle_work(std::int64_t substeps) {
+  return kDemSubstepWork * std::max<std::int64_t>(substeps, 1);
+}
+template <int D>
+void add_fiber_work(const Decomposition<D>& dec, const DemParticles<D>& f, std::size_t n,
+                    std::int64_t substeps, std::vector<std::int64_t>& work);
 
 template <int D>
 class FiberModule final : public Module<D> {

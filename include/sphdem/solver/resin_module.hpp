@@ -58,6 +58,12 @@ class ResinModule final : public Module<D> {
   // per-rank work) at the last check, and how many re-partitions happened.
   double last_imbalance() const { return last_imbalance_; }
   std::int64_t repartitions() const { return repartitions_; }
+  // The weights of a re-partition: the work per block of this rank's
+  // particles, the resin's and walls' (Decomposition::cell_work) plus the
+  // other modules' on this decomposition (a coupled run's fibers,
+  // add_fiber_work). The first partition and a restart's weigh the resin
+  // and walls only (docs/parallel.md, "Which weights, when").
+  std::vector<std::int64_t> cell_work() const;
   // Conjugate-gradient iterations of the last implicit viscous solve.
   int viscous_iterations() const { return cg_iterations_; }
   const Decomposition<D>& decomposition() const { return dec_; }
@@ -70,7 +76,6 @@ class ResinModule final : public Module<D> {
 
  private:
   void maybe_rebalance();
-  std::vector<std::int64_t> cell_work() const;
   std::vector<double> face_means(const std::vector<WallFaceSample>& face);
   void set_wall_velocities(double t);
   void write_front_events(bool pockets);
