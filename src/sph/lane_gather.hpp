@@ -145,8 +145,8 @@ struct GatherLanes<D, Fields<Fs...>> {
   }
 
   // chunk's way with eight_quads. A call of its own: inlined into the
-  // pair loop, the 3D plate took 1.08 times as long (docs/performance.md,
-  // "The gather eight at a time").
+  // pair loop, the 3D plate took about 1.06 times as long
+  // (docs/performance.md, "The gather eight at a time").
   template <class Lanes, class Record, class R>
   [[gnu::noinline]] static void eights(const double* own, const R* rec, const std::int32_t* idx,
                                        std::size_t cnt, double* lanes) {
