@@ -146,6 +146,7 @@ TEST(SphTermRegistry, TheRecordHoldsWhatTheActiveTermsDeclareAndNoMore) {
   EXPECT_TRUE(has(d.record, "rho"));
   EXPECT_FALSE(has(d.lanes, "rho"));
   EXPECT_FALSE(has(d.record, "fluid"));
+  EXPECT_FALSE(has(d.record, "delta_weight"));
   EXPECT_TRUE(has(d.lanes, "anti_clump_r"));
   EXPECT_EQ(d.record_bytes, 88u);
   // Continuity and pressure alone: x, v, m, P/rho^2, 6 doubles.

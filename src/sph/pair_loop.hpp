@@ -365,7 +365,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     const double support2 = 4.0 * sp.h * sp.h;
     const double grad_scale = sp.grad_scale;
     const double inv_h = 1.0 / sp.h;
-    const double kf = -10.0 * ctx.kw;
+    // F = kF t^3: -10 C / h^2 with the lattice correction folded in once.
+    const double kF = -10.0 * ctx.kw * inv_h * inv_h * grad_scale;
     CloseNeighbours* const close = run.redo == nullptr ? run.close : nullptr;
     const double close2 = close != nullptr ? close->within2 : -1.0;
     if (close != nullptr) close->particles.clear();
@@ -426,7 +427,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
           const double q = r * inv_h;
           const double t = inside ? 2.0 - q : 0.0;
           // WendlandC2::f (kernel.hpp), the same operations without the branch.
-          const double F = kf * t * t * t * inv_h * inv_h * grad_scale;
+          const double F = kF * (t * t) * t;
           PairSums s;
           (pair_of<S>(
                std::get<typename S::Term>(bound),
@@ -436,7 +437,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
            ...);
           double pf = 0.0;
           if constexpr ((kWrites & kBracket) != 0)
-            pf = lanes[Lanes::template offset<field::Mass>() * kChunk + k] * s.bracket * F;
+            // (m_j F) as continuity's: one product for both.
+            pf = lanes[Lanes::template offset<field::Mass>() * kChunk + k] * F * s.bracket;
           for (int d = 0; d < D; ++d) {
             const double x = lanes[(kPos + d) * kChunk + k];
             if constexpr ((kWrites & kVisc) != 0) {

@@ -130,7 +130,7 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
 
   const double support2 = 4.0 * sp.h * sp.h;
   const double inv_h = 1.0 / sp.h;
-  const double kf = -10.0 * ctx.kw;
+  const double kF = -10.0 * ctx.kw * inv_h * inv_h * sp.grad_scale;  // as pair_loop.hpp
   // Optional: a pass whose result is settled part way (P::settled) takes
   // its neighbours in blocks of 16 and stops once it is, provided the
   // records' field P::SettledIfPositive is positive everywhere (what makes
@@ -179,7 +179,7 @@ void run_pass(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& p
         const double q = r * inv_h;
         const double t = inside ? 2.0 - q : 0.0;
         // WendlandC2::f (kernel.hpp) with the lattice correction, as in the pair loop.
-        const double F = kf * t * t * t * inv_h * inv_h * sp.grad_scale;
+        const double F = kF * (t * t) * t;
         double s[kSums];
         pass.pair(View{lanes, k, own, r2, r, q, t, F}, s);
         for (std::size_t m = 0; m < kSums; ++m) part[m][k] = s[m];

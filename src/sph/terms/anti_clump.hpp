@@ -70,17 +70,17 @@ struct AntiClump {
   // when only this term reads it (pair_loop.hpp, PairLoopRun::side).
   using SidePass = FreeSurfaceFlag;
 
-  double kw, inv_w_dp;  // W = kw t^4 (1 + 2q); 1 / W(dp)
+  double kw_over_w_dp;  // W = kw t^4 (1 + 2q), over W(dp): one constant, one product fewer
   int n;
   template <int D>
   explicit AntiClump(const TermContext<D>& c)
-      : kw(c.kw), inv_w_dp(1.0 / c.kernel.w(c.sp.spacing)), n(c.sp.anti_clump_n) {}
+      : kw_over_w_dp(c.kw / c.kernel.w(c.sp.spacing)), n(c.sp.anti_clump_n) {}
 
   template <int V, class P>
   void pair(const P& p, PairSums& s) const {
     // WendlandC2::w (kernel.hpp) over W(dp), the same operations without the branch.
     const double t2 = p.t * p.t;
-    const double w_ratio = kw * t2 * t2 * (1.0 + 2.0 * p.q) * inv_w_dp;
+    const double w_ratio = kw_over_w_dp * t2 * t2 * (1.0 + 2.0 * p.q);
     double f;
     if constexpr (V == 0) {
       const double w2 = w_ratio * w_ratio;
