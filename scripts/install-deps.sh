@@ -9,7 +9,7 @@ want=(
   build-essential cmake pkg-config clang-format
   openmpi-bin libopenmpi-dev libhdf5-openmpi-dev hdf5-tools
   libmetis-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev libmuparser-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libbenchmark-dev hyperfine  # hyperfine: tools/bench_vs_lammps.sh and its test
   python3 python3-numpy python3-h5py python3-matplotlib python3-yaml
 )
 # ParaView needs an X display: tools/render.py runs under xvfb-run (xvfb, xauth);
@@ -18,7 +18,7 @@ paraview=1
 for a in "$@"; do
   case "$a" in
     --no-paraview) paraview=0 ;;
-    --peer) want+=(dpkg-dev debian-archive-keyring hyperfine) ;;
+    --peer) want+=(dpkg-dev debian-archive-keyring) ;;
     *) echo "install-deps: unknown option '$a' (--no-paraview, --peer)" >&2; exit 2 ;;
   esac
 done

@@ -213,7 +213,7 @@ if ! ((DRY)); then
   [[ -z "$DEM_CASES" || -x "$BENCH_DEM" ]] || { echo "bench_vs_lammps: no $BENCH_DEM (cmake --preset release && cmake --build build/release --target bench_dem)" >&2; exit 1; }
   [[ -z "$DEM_CASES" ]] || "$peer" -h 2>/dev/null | grep -w BPM >/dev/null || { echo "bench_vs_lammps: $peer has no BPM package (needed by $DEM_CASES)" >&2; exit 1; }
   [[ -z "$PIN" ]] || command -v taskset >/dev/null || { echo "bench_vs_lammps: --pin needs taskset (Debian package util-linux)" >&2; exit 1; }
-  command -v hyperfine >/dev/null || { echo "bench_vs_lammps: hyperfine is missing (scripts/install-deps.sh --peer)" >&2; exit 1; }
+  command -v hyperfine >/dev/null || { echo "bench_vs_lammps: hyperfine is missing (scripts/install-deps.sh installs it)" >&2; exit 1; }
 fi
 
 sets=""
