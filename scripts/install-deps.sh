@@ -10,7 +10,7 @@ want=(
   openmpi-bin libopenmpi-dev libhdf5-openmpi-dev hdf5-tools
   libmetis-dev libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev libmuparser-dev
   libgtest-dev libgmock-dev libbenchmark-dev hyperfine  # hyperfine: tools/bench_vs_lammps.sh and its test
-  python3 python3-numpy python3-h5py python3-matplotlib python3-yaml
+  python3 python3-numpy python3-h5py python3-matplotlib python3-yaml python3-scipy
 )
 # ParaView needs an X display: tools/render.py runs under xvfb-run (xvfb, xauth);
 # ffmpeg encodes its animations.
