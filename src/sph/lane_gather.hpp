@@ -71,18 +71,32 @@ struct GatherLanes<D, Fields<Fs...>> {
   template <class Lanes, class Record>
   static void four_pairs(const double* own, const double* const (&r)[4], std::size_t k,
                          double* lanes) {
+    // All rows first, then all stores: a store to lanes could alias the
+    // records, and would stop the loads shared by two rows being merged.
+    __m256d rows[Lanes::kSize];
+    rows4<Lanes, Record>(own, r, rows);
+    for (std::size_t L = 0; L < Lanes::kSize; ++L) _mm256_store_pd(lanes + L * kChunk + k, rows[L]);
+  }
+
+  // The lane rows of neighbours r[0..3] in registers, row L in out[L] (the
+  // pair loop computes its terms on them when it can: pair_loop.hpp, "steps
+  // 1 and 2 in registers").
+  template <class Lanes, class Record>
+  [[gnu::always_inline]] static inline void rows4(const double* own, const double* const (&r)[4],
+                                                  __m256d* out) {
+    rows4_of<Lanes, Record>(own, r, out, std::make_index_sequence<Lanes::kSize>{});
+  }
+  // (A function rather than a lambda: GCC would not inline the lambda into
+  // the pair loop.)
+  template <class Lanes, class Record, std::size_t... L>
+  [[gnu::always_inline]] static inline void rows4_of(const double* own, const double* const (&r)[4],
+                                                     __m256d* out, std::index_sequence<L...>) {
     constexpr LaneSources<Lanes::kSize> s = sources<Lanes, Record>();
-    [&]<std::size_t... L>(std::index_sequence<L...>) {
-      // All rows first, then all stores: a store to lanes could alias the
-      // records, and would stop the loads shared by two rows being merged.
-      const __m256d rows[] = {row<s.src[L], s.rel[L]>(own, r)...};
-      (_mm256_store_pd(lanes + L * kChunk + k, rows[L]), ...);
-    }
-    (std::make_index_sequence<Lanes::kSize>{});
+    ((out[L] = row<s.src[L], s.rel[L]>(own, r)), ...);
   }
 
   template <int kSrc, int kRel>
-  static __m256d row(const double* own, const double* const (&r)[4]) {
+  [[gnu::always_inline]] static inline __m256d row(const double* own, const double* const (&r)[4]) {
     constexpr int base = kSrc & ~1;
     const __m256d a = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(r[0] + base)),
                                            _mm_loadu_pd(r[2] + base), 1);  // a0 a1 c0 c1
@@ -107,16 +121,27 @@ struct GatherLanes<D, Fields<Fs...>> {
   template <class Lanes, class Record>
   static void eight_quads(const double* own, const double* const (&r)[8], std::size_t k,
                           double* lanes) {
+    __m512d rows[Lanes::kSize];
+    rows8<Lanes, Record>(own, r, rows);
+    for (std::size_t L = 0; L < Lanes::kSize; ++L) _mm512_store_pd(lanes + L * kChunk + k, rows[L]);
+  }
+
+  // The lane rows of neighbours r[0..7] in registers (as rows4).
+  template <class Lanes, class Record>
+  [[gnu::always_inline]] static inline void rows8(const double* own, const double* const (&r)[8],
+                                                  __m512d* out) {
+    rows8_of<Lanes, Record>(own, r, out, std::make_index_sequence<Lanes::kSize>{});
+  }
+  template <class Lanes, class Record, std::size_t... L>
+  [[gnu::always_inline]] static inline void rows8_of(const double* own, const double* const (&r)[8],
+                                                     __m512d* out, std::index_sequence<L...>) {
     constexpr LaneSources<Lanes::kSize> s = sources<Lanes, Record>();
-    [&]<std::size_t... L>(std::index_sequence<L...>) {
-      const __m512d rows[] = {row8<s.src[L], s.rel[L]>(own, r)...};
-      (_mm512_store_pd(lanes + L * kChunk + k, rows[L]), ...);
-    }
-    (std::make_index_sequence<Lanes::kSize>{});
+    ((out[L] = row8<s.src[L], s.rel[L]>(own, r)), ...);
   }
 
   template <int kSrc, int kRel>
-  static __m512d row8(const double* own, const double* const (&r)[8]) {
+  [[gnu::always_inline]] static inline __m512d row8(const double* own,
+                                                    const double* const (&r)[8]) {
     constexpr int base = kSrc & ~3;
     // The masked forms with every lane set are the plain instructions; the
     // unmasked intrinsics pass GCC 12 an undefined vector that
@@ -235,9 +260,14 @@ inline void GatherLanes<D, Fields<Fs...>>::chunk(const double* own, const R* rec
 // The doubles readable after the last of the packed records of kStride
 // doubles: the gather reads records in fours (eight_quads) or pairs
 // (four_pairs) of doubles.
+// With AVX-512 the pair loop reads eight neighbours at a time in registers
+// (rows8) in 2D too (pair_loop.hpp).
 template <int D, std::size_t kStride>
-inline constexpr std::size_t kRecordSpare = kGatherWidth<D> == 8   ? (4 - kStride % 4) % 4
-                                            : kGatherWidth<D> == 4 ? kStride % 2
-                                                                   : 0;
+inline constexpr std::size_t kRecordSpare =
+#if defined(__AVX512F__)
+    (4 - kStride % 4) % 4;
+#else
+    kGatherWidth<D> == 4 ? kStride % 2 : 0;
+#endif
 
 }  // namespace sphdem::terms

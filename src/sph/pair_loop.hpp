@@ -279,8 +279,8 @@ T for_particle(const T& t, const I& own) {
     return t;
 }
 
-template <class S, class T, class P>
-void pair_of(const T& t, const P& p, PairSums& s) {
+template <class S, class T, class P, class Sums>
+void pair_of(const T& t, const P& p, Sums& s) {
   if constexpr (VariantTerm<T>)
     t.template pair<S::kVariant>(p, s);
   else
@@ -329,6 +329,48 @@ struct PairLoopRun {
   const std::vector<std::uint32_t>* refill = nullptr;
 };
 
+// Square roots of one double or of a register of doubles (the pair loop's r).
+inline double lane_sqrt(double x) {
+  return std::sqrt(x);
+}
+#if defined(__AVX__)
+inline __m256d lane_sqrt(__m256d x) {
+  return _mm256_sqrt_pd(x);
+}
+#endif
+#if defined(__AVX512F__)
+// The masked form with every lane set is the plain instruction; the unmasked
+// intrinsic passes GCC 12 an undefined vector that -Wmaybe-uninitialized reports.
+inline __m512d lane_sqrt(__m512d x) {
+  return _mm512_mask_sqrt_pd(x, 0xFF, x);
+}
+#endif
+
+// What step 2 of the pair loop gives for one pair (V = double) or for a
+// block of pairs in registers.
+template <class V, int D>
+struct PairOut {
+  V acc[D];  // the pair's acceleration
+  V drho;    // its density rate
+  V side;    // its part of the side pass's sum (when there is one)
+  V r2;
+};
+
+// Whether steps 1 and 2 run in registers for the terms of Sel and the side
+// pass Side (void: none): with AVX, when every one of them computes on
+// registers (VectorPairTerm, term_interface.hpp).
+template <class Sel, class Side>
+struct InRegisters;
+template <class... S, class Side>
+struct InRegisters<TermList<S...>, Side> {
+#if defined(__AVX__) && !defined(SPHDEM_PAIRS_IN_MEMORY)
+  static constexpr bool value =
+      (VectorPairTerm<typename S::Term> && ...) && (std::is_void_v<Side> || VectorPairTerm<Side>);
+#else
+  static constexpr bool value = false;
+#endif
+};
+
 template <int D, class List, std::size_t C>
 void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>& ps,
                 const PairLoopRun& run) {
@@ -338,6 +380,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   using Record = typename N::Record;
   using Side = typename N::Side;
   constexpr bool kSide = !std::is_void_v<Side>;
+  constexpr bool kInRegisters = InRegisters<Sel, Side>::value;
   constexpr std::size_t kStride = N::kStride;
   constexpr unsigned kWrites = N::kWrites;
 
@@ -402,6 +445,78 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
       }
       int near = 0;  // some neighbour within close2
       const NeighborRow nb = nl.row(i);
+
+      // 2. Pair terms, branch-free: for one pair (V = double, row(r) reads
+      // lane row r of the chunk in memory; GCC vectorizes the loop that calls
+      // this) or for a block of pairs held in registers (V a register of
+      // doubles, row(r) the gather's register). view(reads, own_reads, r2, r,
+      // q, t, F) is a term's view of the pair(s). Pairs beyond the support get
+      // F = 0 (a select, not a branch) and contribute exact zeros.
+      const auto pair_step = [&]<class V>(std::type_identity<V>, const auto& row,
+                                          const auto& view) {
+        PairOut<V, D> o{};
+        V r2{};
+        for (int d = 0; d < D; ++d) {
+          const V x = row(kPos + d);
+          r2 += x * x;
+        }
+        o.r2 = r2;
+        const V r = lane_sqrt(r2);
+        const V q = r * inv_h;
+        const V t = r2 < support2 ? 2.0 - q : V{};
+        // WendlandC2::f (kernel.hpp), the same operations without the branch.
+        const V F = kF * (t * t) * t;
+        BasicPairSums<V> s;
+        (pair_of<S>(std::get<typename S::Term>(bound),
+                    view(std::type_identity<typename S::Term::Reads>{},
+                         std::type_identity<typename OwnReadsOf<typename S::Term>::type>{}, r2, r,
+                         q, t, F),
+                    s),
+         ...);
+        V pf{};
+        if constexpr ((kWrites & kBracket) != 0)
+          // (m_j F) as continuity's: one product for both.
+          pf = row(Lanes::template offset<field::Mass>()) * F * s.bracket;
+        for (int d = 0; d < D; ++d) {
+          const V x = row(kPos + d);
+          o.acc[d] = V{};
+          if constexpr ((kWrites & kVisc) != 0) {
+            const V w = row(Lanes::template offset<field::VelWall>() + d);
+            if constexpr ((kWrites & kBracket) != 0)
+              o.acc[d] = s.visc * w - pf * x;
+            else
+              o.acc[d] = s.visc * w;
+          } else if constexpr ((kWrites & kBracket) != 0) {
+            o.acc[d] = -(pf * x);
+          }
+        }
+        o.drho = (kWrites & kDrho) != 0 ? s.drho : V{};
+        if constexpr (kSide) {
+          V part[1];
+          Side{}.pair(view(std::type_identity<typename Side::Reads>{},
+                           std::type_identity<Fields<>>{}, r2, r, q, t, F),
+                      part);
+          o.side = part[0];
+        }
+        return o;
+      };
+      // Steps 1 and 2 for a block of pairs in registers (rows: the gather's
+      // lane rows) from pair k of the chunk on: the rows are never stored and
+      // loaded again.
+      [[maybe_unused]] const auto pairs_in_registers = [&]<class V>(const V* rows, std::size_t k,
+                                                                    V& r2min) {
+        const PairOut<V, D> o = pair_step(
+            std::type_identity<V>{}, [&](std::size_t row) { return rows[row]; },
+            [&]<class R, class O>(std::type_identity<R>, std::type_identity<O>, V r2, V r, V q, V t,
+                                  V F) {
+              return RegisterPairView<D, Lanes, Record, R, O, V>{rows, own, r2, r, q, t, F};
+            });
+        for (int d = 0; d < D; ++d) __builtin_memcpy(acc_lane[d] + k, &o.acc[d], sizeof(V));
+        __builtin_memcpy(drho_lane + k, &o.drho, sizeof(V));
+        if constexpr (kSide) __builtin_memcpy(side_lane + k, &o.side, sizeof(V));
+        r2min = o.r2 < r2min ? o.r2 : r2min;
+      };
+
       for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
         const std::size_t cnt = std::min(kChunk, e - b);
 
@@ -413,67 +528,68 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
         alignas(64) std::int32_t idx[kChunk + 3];
         for (std::size_t k = 0; k < cnt; ++k) idx[k] = nb[b + k];
         idx[cnt] = idx[cnt + 1] = idx[cnt + 2] = nb[b + cnt - 1];  // cnt >= 1
-        Gather::template chunk<Lanes, Record>(own, rec, idx, cnt, lanes);
 
-        // 2. Pair terms, branch-free (vectorized).
-        for (std::size_t k = 0; k < cnt; ++k) {
-          double r2 = 0.0;
-          for (int d = 0; d < D; ++d) {
-            const double x = lanes[(kPos + d) * kChunk + k];
-            r2 += x * x;
+        if constexpr (kInRegisters) {
+#if defined(__AVX__)
+          // Steps 1 and 2 in registers: eight neighbours at a time with
+          // AVX-512 while a block holds five or more, then four at a time
+          // (docs/performance.md, "Steps 1 and 2 in registers").
+          std::size_t k = 0;
+#if defined(__AVX512F__)
+          __m512d r2min8 = splat<__m512d>(1e300);
+          for (; k + 4 < cnt; k += 8) {
+            const double* const r8[8] = {rec[idx[k]].v,     rec[idx[k + 1]].v, rec[idx[k + 2]].v,
+                                         rec[idx[k + 3]].v, rec[idx[k + 4]].v, rec[idx[k + 5]].v,
+                                         rec[idx[k + 6]].v, rec[idx[k + 7]].v};
+            __m512d rows[Lanes::kSize];
+            Gather::template rows8<Lanes, Record>(own, r8, rows);
+            pairs_in_registers(rows, k, r2min8);
           }
-          const bool inside = r2 < support2;
-          const double r = std::sqrt(r2);
-          const double q = r * inv_h;
-          const double t = inside ? 2.0 - q : 0.0;
-          // WendlandC2::f (kernel.hpp), the same operations without the branch.
-          const double F = kF * (t * t) * t;
-          PairSums s;
-          (pair_of<S>(
-               std::get<typename S::Term>(bound),
-               PairView<D, Lanes, Record, typename S::Term::Reads,
-                        typename OwnReadsOf<typename S::Term>::type>{lanes, k, own, r2, r, q, t, F},
-               s),
-           ...);
-          double pf = 0.0;
-          if constexpr ((kWrites & kBracket) != 0)
-            // (m_j F) as continuity's: one product for both.
-            pf = lanes[Lanes::template offset<field::Mass>() * kChunk + k] * F * s.bracket;
-          for (int d = 0; d < D; ++d) {
-            const double x = lanes[(kPos + d) * kChunk + k];
-            if constexpr ((kWrites & kVisc) != 0) {
-              const double w = lanes[(Lanes::template offset<field::VelWall>() + d) * kChunk + k];
-              if constexpr ((kWrites & kBracket) != 0)
-                acc_lane[d][k] = s.visc * w - pf * x;
-              else
-                acc_lane[d][k] = s.visc * w;
-            } else if constexpr ((kWrites & kBracket) != 0) {
-              acc_lane[d][k] = -(pf * x);
-            } else {
-              acc_lane[d][k] = 0.0;
-            }
+#endif
+          __m256d r2min4 = splat<__m256d>(1e300);
+          for (; k < cnt; k += 4) {
+            const double* const r4[4] = {rec[idx[k]].v, rec[idx[k + 1]].v, rec[idx[k + 2]].v,
+                                         rec[idx[k + 3]].v};
+            __m256d rows[Lanes::kSize];
+            Gather::template rows4<Lanes, Record>(own, r4, rows);
+            pairs_in_registers(rows, k, r2min4);
           }
-          drho_lane[k] = (kWrites & kDrho) != 0 ? s.drho : 0.0;
-          if constexpr (kSide) {
-            double part[1];
-            Side{}.pair(PairView<D, Lanes, Record, typename Side::Reads, Fields<>>{lanes, k, own,
-                                                                                   r2, r, q, t, F},
-                        part);
-            side_lane[k] = part[0];
+          if (close2 > 0.0) {
+            for (int m = 0; m < 4; ++m) near |= r2min4[m] < close2 ? 1 : 0;
+#if defined(__AVX512F__)
+            for (int m = 0; m < 8; ++m) near |= r2min8[m] < close2 ? 1 : 0;
+#endif
           }
-        }
+#endif
+        } else {
+          Gather::template chunk<Lanes, Record>(own, rec, idx, cnt, lanes);
 
-        // Some neighbour within close2 (a loop of its own: inside step 2's
-        // loop the reduction made GCC version that loop).
-        if (close2 > 0.0)
+          // 2. Pair terms (vectorized by GCC).
           for (std::size_t k = 0; k < cnt; ++k) {
-            double r2 = 0.0;
-            for (int d = 0; d < D; ++d) {
-              const double x = lanes[(kPos + d) * kChunk + k];
-              r2 += x * x;
-            }
-            near |= r2 < close2 ? 1 : 0;
+            const PairOut<double, D> o = pair_step(
+                std::type_identity<double>{},
+                [&](std::size_t row) { return lanes[row * kChunk + k]; },
+                [&]<class R, class O>(std::type_identity<R>, std::type_identity<O>, double r2,
+                                      double r, double q, double t, double F) {
+                  return PairView<D, Lanes, Record, R, O>{lanes, k, own, r2, r, q, t, F};
+                });
+            for (int d = 0; d < D; ++d) acc_lane[d][k] = o.acc[d];
+            drho_lane[k] = o.drho;
+            if constexpr (kSide) side_lane[k] = o.side;
           }
+
+          // Some neighbour within close2 (a loop of its own: inside step 2's
+          // loop the reduction made GCC version that loop).
+          if (close2 > 0.0)
+            for (std::size_t k = 0; k < cnt; ++k) {
+              double r2 = 0.0;
+              for (int d = 0; d < D; ++d) {
+                const double x = lanes[(kPos + d) * kChunk + k];
+                r2 += x * x;
+              }
+              near |= r2 < close2 ? 1 : 0;
+            }
+        }
 
         // 3. Sum in list (global-id) order.
         for (std::size_t k = 0; k < cnt; ++k) {

@@ -13,6 +13,7 @@
 //   explicit T(const TermContext<D>&);   // optional: its parameters
 //   T for_particle(const OwnView&) const;            // optional: per-particle part
 //   void pair(const PairView&, PairSums&) const;     // its contribution per pair
+//   static constexpr bool kVectorPair;   // optional: pair() works on registers too
 //
 // A record field (record_fields.hpp, or a term's own header for a quantity
 // it prepares per particle, like anti-clump's R_a) is a struct with a name,
@@ -67,11 +68,22 @@ inline constexpr std::size_t width_v = F::kVector ? D : 1;
 // with v~_ij = v_i - vw_j. Each starts at -0.0, the exact additive
 // identity (-0.0 + x == x for every x, so the compiler drops the add and
 // the first contribution is bitwise the term's own value).
-struct PairSums {
-  double drho = -0.0;
-  double bracket = -0.0;  // P_i/rho_i^2 + P_j/rho_j^2 + Pi_ij + R_ij f^n ...
-  double visc = -0.0;     // factor of v~_ij
+// V is double, or a register of doubles (one pair per lane) for the terms
+// that compute in registers (kVectorPair, below).
+template <class V>
+V splat(double x) {
+  if constexpr (std::is_same_v<V, double>)
+    return x;
+  else
+    return x - V{};  // x in every lane, -0.0 included (x - 0 == x)
+}
+template <class V = double>
+struct BasicPairSums {
+  V drho = splat<V>(-0.0);
+  V bracket = splat<V>(-0.0);  // P_i/rho_i^2 + P_j/rho_j^2 + Pi_ij + R_ij f^n ...
+  V visc = splat<V>(-0.0);     // factor of v~_ij
 };
+using PairSums = BasicPairSums<double>;
 enum Writes : unsigned { kDrho = 1, kBracket = 2, kVisc = 4 };
 
 // What a term's constructor may use: the parameters and the kernel.
@@ -117,6 +129,38 @@ struct PairView {
                   "the term reads a field it does not declare");
     return own[RecordLayout::template offset<Fd>() + c];
   }
+};
+
+// The same pair quantities for a block of pairs held in registers of V
+// (one pair per lane): the lane rows the gather transposed
+// (GatherLanes::rows4 / rows8) instead of rows stored in memory. A term whose
+// pair() is written for any lane type (`auto` locals, no branches) says so
+// with `static constexpr bool kVectorPair = true;`; when every active term
+// and the side pass do, the pair loop computes the terms on the registers
+// straight after the gather (pair_loop.hpp, "steps 1 and 2 in registers").
+template <int D, class LaneLayout, class RecordLayout, class Reads, class OwnReads, class V>
+struct RegisterPairView {
+  static constexpr int kDim = D;
+  const V* rows;  // lane row r of the block's pairs
+  const double* own;
+  V r2, r, q, t, F;
+
+  template <class Fd>
+  V lane(Fd, int c = 0) const {
+    static_assert(contains_v<Fd, Reads>, "the term reads a lane it does not declare");
+    return rows[LaneLayout::template offset<Fd>() + c];
+  }
+  template <class Fd>
+  double own_value(Fd, int c = 0) const {
+    static_assert(contains_v<Fd, Reads> || contains_v<Fd, OwnReads>,
+                  "the term reads a field it does not declare");
+    return own[RecordLayout::template offset<Fd>() + c];
+  }
+};
+
+template <class T>
+concept VectorPairTerm = requires {
+  requires T::kVectorPair;
 };
 
 }  // namespace sphdem::terms

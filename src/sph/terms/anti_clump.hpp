@@ -30,19 +30,18 @@ inline double anti_clump_r(double eps, double p_over_rho2) {
 }
 
 // R_ij.
-inline double anti_clump_coefficient(double r_i, double r_j, double por2_i, double por2_j) {
+inline auto anti_clump_coefficient(double r_i, auto r_j, double por2_i, auto por2_j) {
   return (por2_i > 0.0 && por2_j > 0.0) ? 0.01 * (por2_i + por2_j) : r_i + r_j;
 }
 
 // f^n for any n >= 0 (a loop: the term has a fast path for n = 4).
-inline double anti_clump_power(double w_ratio, int n) {
-  double f = 1.0;
+inline auto anti_clump_power(auto w_ratio, int n) {
+  decltype(w_ratio) f = splat<decltype(w_ratio)>(1.0);
   for (int k = 0; k < n; ++k) f *= w_ratio;
   return f;
 }
 
-inline double anti_clump(double r_i, double r_j, double por2_i, double por2_j, double w_ratio,
-                         int n) {
+inline auto anti_clump(double r_i, auto r_j, double por2_i, auto por2_j, auto w_ratio, int n) {
   return anti_clump_coefficient(r_i, r_j, por2_i, por2_j) * anti_clump_power(w_ratio, n);
 }
 
@@ -62,6 +61,7 @@ struct AntiClump {
   static constexpr const char* name = "anti_clump";
   using Reads = Fields<field::PoR2, field::AntiClumpR>;
   static constexpr unsigned writes = kBracket;
+  static constexpr bool kVectorPair = true;
   static bool active(const SphParams& sp) { return sp.anti_clump; }
   // Variant 0: n = 4, f^4 = (f^2)^2. Variant 1: any n.
   static constexpr int variants = 2;
@@ -76,14 +76,14 @@ struct AntiClump {
   explicit AntiClump(const TermContext<D>& c)
       : kw_over_w_dp(c.kw / c.kernel.w(c.sp.spacing)), n(c.sp.anti_clump_n) {}
 
-  template <int V, class P>
-  void pair(const P& p, PairSums& s) const {
+  template <int V, class P, class Sums>
+  void pair(const P& p, Sums& s) const {
     // WendlandC2::w (kernel.hpp) over W(dp), the same operations without the branch.
-    const double t2 = p.t * p.t;
-    const double w_ratio = kw_over_w_dp * t2 * t2 * (1.0 + 2.0 * p.q);
-    double f;
+    const auto t2 = p.t * p.t;
+    const auto w_ratio = kw_over_w_dp * t2 * t2 * (1.0 + 2.0 * p.q);
+    std::remove_const_t<decltype(w_ratio)> f;
     if constexpr (V == 0) {
-      const double w2 = w_ratio * w_ratio;
+      const auto w2 = w_ratio * w_ratio;
       f = w2 * w2;
     } else {
       f = anti_clump_power(w_ratio, n);

@@ -9,10 +9,10 @@
 
 namespace sphdem::terms {
 
-inline double artificial_viscosity(double alpha_c0_h, double vx, double r2, double eta2,
-                                   double rho_i, double rho_j) {
-  const double mu_ij = vx / (r2 + eta2);
-  const double pi_ij = -alpha_c0_h * mu_ij * 2.0 / (rho_i + rho_j);
+inline auto artificial_viscosity(double alpha_c0_h, auto vx, auto r2, double eta2, double rho_i,
+                                 auto rho_j) {
+  const auto mu_ij = vx / (r2 + eta2);
+  const auto pi_ij = -alpha_c0_h * mu_ij * 2.0 / (rho_i + rho_j);
   return vx < 0.0 ? pi_ij : 0.0;
 }
 
@@ -20,6 +20,7 @@ struct ArtificialViscosity {
   static constexpr const char* name = "artificial_viscosity";
   using Reads = Fields<field::Pos, field::VelWall, field::Rho>;
   static constexpr unsigned writes = kBracket;
+  static constexpr bool kVectorPair = true;
   static bool active(const SphParams& sp) { return sp.alpha > 0; }
 
   double alpha_c0_h, eta2;
@@ -27,9 +28,9 @@ struct ArtificialViscosity {
   explicit ArtificialViscosity(const TermContext<D>& c)
       : alpha_c0_h(c.sp.alpha * c.sp.c0 * c.sp.h), eta2(c.sp.eta2) {}
 
-  template <class P>
-  void pair(const P& p, PairSums& s) const {
-    double wx = 0.0;
+  template <class P, class Sums>
+  void pair(const P& p, Sums& s) const {
+    decltype(p.F) wx{};
     for (int d = 0; d < P::kDim; ++d) wx += p.lane(field::VelWall{}, d) * p.lane(field::Pos{}, d);
     s.bracket += artificial_viscosity(alpha_c0_h, wx, p.r2, eta2, p.own_value(field::Rho{}),
                                       p.lane(field::Rho{}));

@@ -7,7 +7,8 @@
 
 namespace sphdem::terms {
 
-inline double continuity(double m_j, double F, double vx) {
+// Any lane type (double, or registers of pairs: term_interface.hpp).
+inline auto continuity(auto m_j, auto F, auto vx) {
   return m_j * F * vx;
 }
 
@@ -15,10 +16,11 @@ struct Continuity {
   static constexpr const char* name = "continuity";
   using Reads = Fields<field::Pos, field::Vel, field::Mass>;
   static constexpr unsigned writes = kDrho;
+  static constexpr bool kVectorPair = true;
 
-  template <class P>
-  void pair(const P& p, PairSums& s) const {
-    double vx = 0.0;  // v_ij . x_ij
+  template <class P, class Sums>
+  void pair(const P& p, Sums& s) const {
+    decltype(p.F) vx{};  // v_ij . x_ij
     for (int d = 0; d < P::kDim; ++d) vx += p.lane(field::Vel{}, d) * p.lane(field::Pos{}, d);
     s.drho += continuity(p.lane(field::Mass{}), p.F, vx);
   }

@@ -16,7 +16,7 @@ inline double delta_sph_weight(double delta_h_c0, double vol_j) {
   return -2.0 * delta_h_c0 * vol_j;
 }
 
-inline double delta_sph(double rho_i, double rho_j, double weight_j, double F) {
+inline auto delta_sph(double rho_i, auto rho_j, auto weight_j, auto F) {
   return (rho_j - rho_i) * F * weight_j;
 }
 
@@ -41,10 +41,11 @@ struct DeltaSph {
   static constexpr const char* name = "delta_sph";
   using Reads = Fields<field::Rho, field::DeltaWeight>;
   static constexpr unsigned writes = kDrho;
+  static constexpr bool kVectorPair = true;
   static bool active(const SphParams& sp) { return sp.delta > 0; }
 
-  template <class P>
-  void pair(const P& p, PairSums& s) const {
+  template <class P, class Sums>
+  void pair(const P& p, Sums& s) const {
     s.drho += delta_sph(p.own_value(field::Rho{}), p.lane(field::Rho{}),
                         p.lane(field::DeltaWeight{}), p.F);
   }

@@ -46,8 +46,8 @@ struct FreeSurface : ScalarField {
 
 // This pair's part of div r_i = -sum_j V_j F_ij |x_ij|^2 (one expression for both passes).
 template <class P>
-double position_divergence_part(const P& p) {
-  const double vf = p.lane(field::Vol{}) * p.F;
+auto position_divergence_part(const P& p) {
+  const auto vf = p.lane(field::Vol{}) * p.F;
   return -vf * p.r2;
 }
 
@@ -60,6 +60,7 @@ inline bool anti_clump_reads_surface(const SphParams& sp) {
 // (pass_loop.hpp), run when nothing else needs the free-surface pass.
 struct FreeSurfaceFlag {
   using Reads = Fields<field::Pos, field::Vol>;
+  static constexpr bool kVectorPair = true;
   template <int D>
   static constexpr std::size_t kSums = 1;
   template <int D>
@@ -73,8 +74,8 @@ struct FreeSurfaceFlag {
   static bool wanted(const SphParams& sp, const SphParticles<D>& ps, std::size_t i) {
     return anti_clump_r(sp.anti_clump_eps, pressure_over_rho2(ps.p[i], ps.rho[i])) != 0.0;
   }
-  template <class P>
-  void pair(const P& p, double* s) const {
+  template <class P, class V>
+  void pair(const P& p, V* s) const {
     s[0] = position_divergence_part(p);
   }
   template <int D>

@@ -30,9 +30,10 @@ struct Pressure {
   static constexpr const char* name = "pressure";
   using Reads = Fields<field::PoR2>;
   static constexpr unsigned writes = kBracket;
+  static constexpr bool kVectorPair = true;
 
-  template <class P>
-  void pair(const P& p, PairSums& s) const {
+  template <class P, class Sums>
+  void pair(const P& p, Sums& s) const {
     s.bracket += p.own_value(field::PoR2{}) + p.lane(field::PoR2{});
   }
 };

@@ -12,8 +12,7 @@ namespace sphdem::terms {
 // Scalar factor multiplying v_ij. The caller passes the per-particle
 // parts, two_mu_over_rho_i = 2 mu / rho_i and vol_j = m_j / rho_j, so the
 // pair costs one division (by r^2 + eta^2) instead of two.
-inline double morris_viscosity(double two_mu_over_rho_i, double vol_j, double F, double r2,
-                               double eta2) {
+inline auto morris_viscosity(double two_mu_over_rho_i, auto vol_j, auto F, auto r2, double eta2) {
   return two_mu_over_rho_i * vol_j * F * r2 / (r2 + eta2);
 }
 
@@ -22,6 +21,7 @@ struct MorrisViscosity {
   using Reads = Fields<field::Vol>;
   using OwnReads = Fields<field::Rho>;
   static constexpr unsigned writes = kVisc;  // the loop multiplies it by v_i - vw_j
+  static constexpr bool kVectorPair = true;
   // A viscosity law runs viscosity_variable.hpp instead; implicit
   // viscosity, src/sph/implicit_viscosity.cpp after the second kick.
   static bool active(const SphParams& sp) {
@@ -42,8 +42,8 @@ struct MorrisViscosity {
     return bound;
   }
 
-  template <class P>
-  void pair(const P& p, PairSums& s) const {
+  template <class P, class Sums>
+  void pair(const P& p, Sums& s) const {
     s.visc += morris_viscosity(two_mu_over_rho_i, p.lane(field::Vol{}), p.F, p.r2, eta2);
   }
 };
