@@ -276,6 +276,34 @@ TEST(SphPairLoop, EqualsTheDirectSumOfTheTermsInEveryCombination) {
         }
 }
 
+// The shipped cases' terms (the channel: continuity, delta-SPH, pressure,
+// anti-clump, Morris, the free-surface flag on the side; with artificial
+// viscosity or a viscosity law too) are written for registers, so with AVX
+// their loop computes them on the gathered registers; a term that is not
+// (surface tension) sends the loop through the lane rows in memory. Fails when a term loses
+// kVectorPair (the loop would be correct, and about 1.1 times slower).
+TEST(SphPairLoop, TheShippedTermsRunInRegistersWithAvx) {
+#if defined(__AVX__)
+  constexpr bool kAvx = true;
+#else
+  constexpr bool kAvx = false;
+#endif
+  SphParams sp = base_params();
+  sp.mu = 0.1;
+  sp.delta = 0.1;
+  sp.anti_clump = true;
+  sp.anti_clump_n = 4;
+  for (double alpha : {0.0, 0.05}) {
+    sp.alpha = alpha;
+    EXPECT_EQ((describe_pair_loop<2, SphTerms>(sp).in_registers), kAvx) << "alpha " << alpha;
+    EXPECT_EQ((describe_pair_loop<3, SphTerms>(sp).in_registers), kAvx) << "alpha " << alpha;
+  }
+  sp.variable_viscosity = true;
+  EXPECT_EQ((describe_pair_loop<2, SphTerms>(sp).in_registers), kAvx) << "a viscosity law";
+  sp.surface_tension = 0.03;
+  EXPECT_FALSE((describe_pair_loop<2, SphTerms>(sp).in_registers));
+}
+
 // A term written outside the library: a per-particle prepared field (the
 // record computes it once per particle), a per-particle part and a pair
 // function. It joins the loop through a term list alone.

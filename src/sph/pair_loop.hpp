@@ -12,6 +12,13 @@
 //      function in list order (pairs beyond the support get F = 0, a select
 //      instead of a `continue`, and contribute exact zeros);
 //   3. sums the per-pair contributions in list order.
+// With AVX, when every active term's pair() is written for any lane type
+// (kVectorPair, term_interface.hpp), steps 1 and 2 run in registers: the
+// gather transposes eight (AVX-512) or four neighbours into registers and the
+// terms are computed on them straight away, so no lane row is stored and
+// loaded again (docs/performance.md, "Steps 1 and 2 in registers"). Both
+// forms run the same step-2 code (pair_step), on one double or on a
+// register of them.
 // The neighbour list is sorted by global id, and step 3 is a plain
 // sequential sum in that order, so the result does not depend on the
 // particle layout or the rank count (docs/performance.md).
@@ -618,6 +625,7 @@ struct LoopDescription {
   std::vector<std::string> record;  // fields packed per particle
   std::vector<std::string> lanes;   // fields gathered per neighbour
   std::size_t record_bytes = 0;
+  bool in_registers = false;  // steps 1 and 2 in registers (InRegisters)
 };
 
 template <int D, class List, std::size_t C>
@@ -632,6 +640,8 @@ LoopDescription describe_loop() {
   out.record = N::Record::names();
   out.lanes = N::Lanes::names();
   out.record_bytes = N::kStride * sizeof(double);
+  out.in_registers =
+      InRegisters<typename Registry<List>::template Select<C>, typename N::Side>::value;
   return out;
 }
 

@@ -42,8 +42,8 @@ void compute_particle_viscosity(const SphParams& sp, SphParticles<D>& ps) {
 }
 
 // 2 mu_i mu_j / (mu_i + mu_j), the harmonic mean (0 when both are 0).
-inline double harmonic_mean(double mu_i, double mu_j) {
-  const double s = mu_i + mu_j;
+inline auto harmonic_mean(double mu_i, auto mu_j) {
+  const auto s = mu_i + mu_j;
   return s > 0.0 ? 2.0 * mu_i * mu_j / s : 0.0;
 }
 
@@ -65,6 +65,7 @@ struct VariableViscosity {
   // shear-rate pass run (pass_loop.hpp).
   using OwnReads = Fields<field::Rho, field::ShearRate>;
   static constexpr unsigned writes = kVisc;
+  static constexpr bool kVectorPair = true;
   // Implicit viscosity: src/sph/implicit_viscosity.cpp after the second kick.
   static bool active(const SphParams& sp) {
     return sp.variable_viscosity && !sp.implicit_viscosity;
@@ -86,10 +87,10 @@ struct VariableViscosity {
     return bound;
   }
 
-  template <class P>
-  void pair(const P& p, PairSums& s) const {
-    const double mu_j = p.lane(field::Fluid{}) > 0.5 ? p.lane(field::Viscosity{}) : mu_i;
-    const double two_mu = 2.0 * harmonic_mean(mu_i, mu_j);
+  template <class P, class Sums>
+  void pair(const P& p, Sums& s) const {
+    const auto mu_j = p.lane(field::Fluid{}) > 0.5 ? p.lane(field::Viscosity{}) : mu_i;
+    const auto two_mu = 2.0 * harmonic_mean(mu_i, mu_j);
     s.visc += two_mu * scale_over_rho_i * p.lane(field::Vol{}) * p.F * p.r2 / (p.r2 + eta2);
   }
 };
