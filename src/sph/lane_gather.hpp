@@ -73,26 +73,32 @@ struct GatherLanes<D, Fields<Fs...>> {
                          double* lanes) {
     // All rows first, then all stores: a store to lanes could alias the
     // records, and would stop the loads shared by two rows being merged.
-    __m256d rows[Lanes::kSize];
-    rows4<Lanes, Record>(own, r, rows);
-    for (std::size_t L = 0; L < Lanes::kSize; ++L) _mm256_store_pd(lanes + L * kChunk + k, rows[L]);
+    __m256d regs[Lanes::kSize];
+    rows<Lanes, Record>(own, r, regs);
+    for (std::size_t L = 0; L < Lanes::kSize; ++L) _mm256_store_pd(lanes + L * kChunk + k, regs[L]);
   }
 
-  // The lane rows of neighbours r[0..3] in registers, row L in out[L] (the
-  // pair loop computes its terms on them when it can: pair_loop.hpp, "steps
-  // 1 and 2 in registers").
-  template <class Lanes, class Record>
-  [[gnu::always_inline]] static inline void rows4(const double* own, const double* const (&r)[4],
-                                                  __m256d* out) {
-    rows4_of<Lanes, Record>(own, r, out, std::make_index_sequence<Lanes::kSize>{});
+  // The lane rows of neighbours r[0..W-1] in registers, row L in out[L]: W = 4
+  // with row (256-bit), W = 8 with row8 (512-bit). The pair loop computes its
+  // terms on them when it can (pair_loop.hpp, "steps 1 and 2 in registers").
+  template <class Lanes, class Record, std::size_t W, class Reg>
+  [[gnu::always_inline]] static inline void rows(const double* own, const double* const (&r)[W],
+                                                 Reg* out) {
+    rows_of<Lanes, Record>(own, r, out, std::make_index_sequence<Lanes::kSize>{});
   }
   // (A function rather than a lambda: GCC would not inline the lambda into
   // the pair loop.)
-  template <class Lanes, class Record, std::size_t... L>
-  [[gnu::always_inline]] static inline void rows4_of(const double* own, const double* const (&r)[4],
-                                                     __m256d* out, std::index_sequence<L...>) {
+  template <class Lanes, class Record, std::size_t W, class Reg, std::size_t... L>
+  [[gnu::always_inline]] static inline void rows_of(const double* own, const double* const (&r)[W],
+                                                    Reg* out, std::index_sequence<L...>) {
     constexpr LaneSources<Lanes::kSize> s = sources<Lanes, Record>();
-    ((out[L] = row<s.src[L], s.rel[L]>(own, r)), ...);
+    if constexpr (W == 4) {
+      ((out[L] = row<s.src[L], s.rel[L]>(own, r)), ...);
+    } else {
+#if defined(__AVX512F__)
+      ((out[L] = row8<s.src[L], s.rel[L]>(own, r)), ...);
+#endif
+    }
   }
 
   template <int kSrc, int kRel>
@@ -121,22 +127,9 @@ struct GatherLanes<D, Fields<Fs...>> {
   template <class Lanes, class Record>
   static void eight_quads(const double* own, const double* const (&r)[8], std::size_t k,
                           double* lanes) {
-    __m512d rows[Lanes::kSize];
-    rows8<Lanes, Record>(own, r, rows);
-    for (std::size_t L = 0; L < Lanes::kSize; ++L) _mm512_store_pd(lanes + L * kChunk + k, rows[L]);
-  }
-
-  // The lane rows of neighbours r[0..7] in registers (as rows4).
-  template <class Lanes, class Record>
-  [[gnu::always_inline]] static inline void rows8(const double* own, const double* const (&r)[8],
-                                                  __m512d* out) {
-    rows8_of<Lanes, Record>(own, r, out, std::make_index_sequence<Lanes::kSize>{});
-  }
-  template <class Lanes, class Record, std::size_t... L>
-  [[gnu::always_inline]] static inline void rows8_of(const double* own, const double* const (&r)[8],
-                                                     __m512d* out, std::index_sequence<L...>) {
-    constexpr LaneSources<Lanes::kSize> s = sources<Lanes, Record>();
-    ((out[L] = row8<s.src[L], s.rel[L]>(own, r)), ...);
+    __m512d regs[Lanes::kSize];
+    rows<Lanes, Record>(own, r, regs);
+    for (std::size_t L = 0; L < Lanes::kSize; ++L) _mm512_store_pd(lanes + L * kChunk + k, regs[L]);
   }
 
   template <int kSrc, int kRel>
@@ -261,7 +254,7 @@ inline void GatherLanes<D, Fields<Fs...>>::chunk(const double* own, const R* rec
 // doubles: the gather reads records in fours (eight_quads) or pairs
 // (four_pairs) of doubles.
 // With AVX-512 the pair loop reads eight neighbours at a time in registers
-// (rows8) in 2D too (pair_loop.hpp).
+// (rows) in 2D too (pair_loop.hpp).
 template <int D, std::size_t kStride>
 inline constexpr std::size_t kRecordSpare =
 #if defined(__AVX512F__)

@@ -549,7 +549,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
                                          rec[idx[k + 3]].v, rec[idx[k + 4]].v, rec[idx[k + 5]].v,
                                          rec[idx[k + 6]].v, rec[idx[k + 7]].v};
             __m512d rows[Lanes::kSize];
-            Gather::template rows8<Lanes, Record>(own, r8, rows);
+            Gather::template rows<Lanes, Record>(own, r8, rows);
             pairs_in_registers(rows, k, r2min8);
           }
 #endif
@@ -558,7 +558,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             const double* const r4[4] = {rec[idx[k]].v, rec[idx[k + 1]].v, rec[idx[k + 2]].v,
                                          rec[idx[k + 3]].v};
             __m256d rows[Lanes::kSize];
-            Gather::template rows4<Lanes, Record>(own, r4, rows);
+            Gather::template rows<Lanes, Record>(own, r4, rows);
             pairs_in_registers(rows, k, r2min4);
           }
           if (close2 > 0.0) {

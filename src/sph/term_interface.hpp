@@ -133,7 +133,7 @@ struct PairView {
 
 // The same pair quantities for a block of pairs held in registers of V
 // (one pair per lane): the lane rows the gather transposed
-// (GatherLanes::rows4 / rows8) instead of rows stored in memory. A term whose
+// (GatherLanes::rows) instead of rows stored in memory. A term whose
 // pair() is written for any lane type (`auto` locals, no branches) says so
 // with `static constexpr bool kVectorPair = true;`; when every active term
 // and the side pass do, the pair loop computes the terms on the registers
