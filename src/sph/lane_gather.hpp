@@ -81,15 +81,17 @@ struct GatherLanes<D, Fields<Fs...>> {
   // The lane rows of neighbours r[0..W-1] in registers, row L in out[L]: W = 4
   // with row (256-bit), W = 8 with row8 (512-bit). The pair loop computes its
   // terms on them when it can (pair_loop.hpp, "steps 1 and 2 in registers").
-  template <class Lanes, class Record, std::size_t W, class Reg>
-  [[gnu::always_inline]] static inline void rows(const double* own, const double* const (&r)[W],
+  // own: particle i's record (double), or with W = 8 registers holding one
+  // particle per lane (pair_loop.hpp, "one particle per lane").
+  template <class Lanes, class Record, std::size_t W, class Reg, class O>
+  [[gnu::always_inline]] static inline void rows(const O* own, const double* const (&r)[W],
                                                  Reg* out) {
     rows_of<Lanes, Record>(own, r, out, std::make_index_sequence<Lanes::kSize>{});
   }
   // (A function rather than a lambda: GCC would not inline the lambda into
   // the pair loop.)
-  template <class Lanes, class Record, std::size_t W, class Reg, std::size_t... L>
-  [[gnu::always_inline]] static inline void rows_of(const double* own, const double* const (&r)[W],
+  template <class Lanes, class Record, std::size_t W, class Reg, class O, std::size_t... L>
+  [[gnu::always_inline]] static inline void rows_of(const O* own, const double* const (&r)[W],
                                                     Reg* out, std::index_sequence<L...>) {
     constexpr LaneSources<Lanes::kSize> s = sources<Lanes, Record>();
     if constexpr (W == 4) {
@@ -132,9 +134,8 @@ struct GatherLanes<D, Fields<Fs...>> {
     for (std::size_t L = 0; L < Lanes::kSize; ++L) _mm512_store_pd(lanes + L * kChunk + k, regs[L]);
   }
 
-  template <int kSrc, int kRel>
-  [[gnu::always_inline]] static inline __m512d row8(const double* own,
-                                                    const double* const (&r)[8]) {
+  template <int kSrc, int kRel, class O>
+  [[gnu::always_inline]] static inline __m512d row8(const O* own, const double* const (&r)[8]) {
     constexpr int base = kSrc & ~3;
     // The masked forms with every lane set are the plain instructions; the
     // unmasked intrinsics pass GCC 12 an undefined vector that
@@ -156,10 +157,12 @@ struct GatherLanes<D, Fields<Fs...>> {
     const __m512i pick = (kSrc & 2) == 0 ? _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0)
                                          : _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
     const __m512d v = _mm512_permutex2var_pd(a, pick, b);
-    if constexpr (kRel >= 0)
+    if constexpr (kRel < 0)
+      return v;
+    else if constexpr (std::is_same_v<O, double>)
       return _mm512_sub_pd(_mm512_set1_pd(own[kRel]), v);
     else
-      return v;
+      return _mm512_sub_pd(own[kRel], v);
   }
 
   // chunk's way with eight_quads. A call of its own: inlined into the

@@ -95,11 +95,13 @@ struct TermContext {
 };
 
 // Particle i's record, restricted to the fields the term declared.
-template <class RecordLayout, class Allowed>
+// O: double, or a register of doubles holding one particle per lane
+// (pair_loop.hpp, "one particle per lane").
+template <class RecordLayout, class Allowed, class O = double>
 struct OwnView {
-  const double* own;
+  const O* own;
   template <class F>
-  double own_value(F, int c = 0) const {
+  O own_value(F, int c = 0) const {
     static_assert(contains_v<F, Allowed>, "the term reads a field it does not declare");
     return own[RecordLayout::template offset<F>() + c];
   }
@@ -138,11 +140,14 @@ struct PairView {
 // with `static constexpr bool kVectorPair = true;`; when every active term
 // and the side pass do, the pair loop computes the terms on the registers
 // straight after the gather (pair_loop.hpp, "steps 1 and 2 in registers").
-template <int D, class LaneLayout, class RecordLayout, class Reads, class OwnReads, class V>
+// O: particle i's values, double (one particle, its pairs in the lanes)
+// or V (one particle per lane).
+template <int D, class LaneLayout, class RecordLayout, class Reads, class OwnReads, class V,
+          class O = double>
 struct RegisterPairView {
   static constexpr int kDim = D;
   const V* rows;  // lane row r of the block's pairs
-  const double* own;
+  const O* own;
   V r2, r, q, t, F;
 
   template <class Fd>
@@ -151,7 +156,7 @@ struct RegisterPairView {
     return rows[LaneLayout::template offset<Fd>() + c];
   }
   template <class Fd>
-  double own_value(Fd, int c = 0) const {
+  O own_value(Fd, int c = 0) const {
     static_assert(contains_v<Fd, Reads> || contains_v<Fd, OwnReads>,
                   "the term reads a field it does not declare");
     return own[RecordLayout::template offset<Fd>() + c];

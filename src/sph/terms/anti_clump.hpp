@@ -30,7 +30,7 @@ inline double anti_clump_r(double eps, double p_over_rho2) {
 }
 
 // R_ij.
-inline auto anti_clump_coefficient(double r_i, auto r_j, double por2_i, auto por2_j) {
+inline auto anti_clump_coefficient(auto r_i, auto r_j, auto por2_i, auto por2_j) {
   return (por2_i > 0.0 && por2_j > 0.0) ? 0.01 * (por2_i + por2_j) : r_i + r_j;
 }
 
@@ -41,7 +41,7 @@ inline auto anti_clump_power(auto w_ratio, int n) {
   return f;
 }
 
-inline auto anti_clump(double r_i, auto r_j, double por2_i, auto por2_j, auto w_ratio, int n) {
+inline auto anti_clump(auto r_i, auto r_j, auto por2_i, auto por2_j, auto w_ratio, int n) {
   return anti_clump_coefficient(r_i, r_j, por2_i, por2_j) * anti_clump_power(w_ratio, n);
 }
 

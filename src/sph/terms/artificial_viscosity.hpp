@@ -9,7 +9,7 @@
 
 namespace sphdem::terms {
 
-inline auto artificial_viscosity(double alpha_c0_h, auto vx, auto r2, double eta2, double rho_i,
+inline auto artificial_viscosity(double alpha_c0_h, auto vx, auto r2, double eta2, auto rho_i,
                                  auto rho_j) {
   const auto mu_ij = vx / (r2 + eta2);
   const auto pi_ij = -alpha_c0_h * mu_ij * 2.0 / (rho_i + rho_j);

@@ -16,7 +16,7 @@ inline double delta_sph_weight(double delta_h_c0, double vol_j) {
   return -2.0 * delta_h_c0 * vol_j;
 }
 
-inline auto delta_sph(double rho_i, auto rho_j, auto weight_j, auto F) {
+inline auto delta_sph(auto rho_i, auto rho_j, auto weight_j, auto F) {
   return (rho_j - rho_i) * F * weight_j;
 }
 

@@ -12,11 +12,15 @@ namespace sphdem::terms {
 // Scalar factor multiplying v_ij. The caller passes the per-particle
 // parts, two_mu_over_rho_i = 2 mu / rho_i and vol_j = m_j / rho_j, so the
 // pair costs one division (by r^2 + eta^2) instead of two.
-inline auto morris_viscosity(double two_mu_over_rho_i, auto vol_j, auto F, auto r2, double eta2) {
+inline auto morris_viscosity(auto two_mu_over_rho_i, auto vol_j, auto F, auto r2, double eta2) {
   return two_mu_over_rho_i * vol_j * F * r2 / (r2 + eta2);
 }
 
-struct MorrisViscosity {
+// O: the type of particle i's values, double, or a register of them when
+// the pair loop runs one particle per lane (pair_loop.hpp, "one particle per
+// lane").
+template <class O = double>
+struct MorrisViscosityT {
   static constexpr const char* name = "morris";
   using Reads = Fields<field::Vol>;
   using OwnReads = Fields<field::Rho>;
@@ -30,15 +34,17 @@ struct MorrisViscosity {
 
   double two_mu;  // 2 mu, over grad_scale since F carries it
   double eta2;
-  double two_mu_over_rho_i = 0.0;
+  O two_mu_over_rho_i{};
+  MorrisViscosityT(double two_mu_, double eta2_) : two_mu(two_mu_), eta2(eta2_) {}
   template <int D>
-  explicit MorrisViscosity(const TermContext<D>& c)
+  explicit MorrisViscosityT(const TermContext<D>& c)
       : two_mu(2.0 * c.sp.mu * c.sp.mu_scale / c.sp.grad_scale), eta2(c.sp.eta2) {}
 
   template <class I>
-  MorrisViscosity for_particle(const I& i) const {
-    MorrisViscosity bound = *this;
-    bound.two_mu_over_rho_i = two_mu / i.own_value(field::Rho{});
+  auto for_particle(const I& i) const {
+    const auto rho_i = i.own_value(field::Rho{});
+    MorrisViscosityT<std::remove_const_t<decltype(rho_i)>> bound(two_mu, eta2);
+    bound.two_mu_over_rho_i = two_mu / rho_i;
     return bound;
   }
 
@@ -47,5 +53,6 @@ struct MorrisViscosity {
     s.visc += morris_viscosity(two_mu_over_rho_i, p.lane(field::Vol{}), p.F, p.r2, eta2);
   }
 };
+using MorrisViscosity = MorrisViscosityT<>;
 
 }  // namespace sphdem::terms

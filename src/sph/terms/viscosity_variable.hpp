@@ -42,7 +42,7 @@ void compute_particle_viscosity(const SphParams& sp, SphParticles<D>& ps) {
 }
 
 // 2 mu_i mu_j / (mu_i + mu_j), the harmonic mean (0 when both are 0).
-inline auto harmonic_mean(double mu_i, auto mu_j) {
+inline auto harmonic_mean(auto mu_i, auto mu_j) {
   const auto s = mu_i + mu_j;
   return s > 0.0 ? 2.0 * mu_i * mu_j / s : 0.0;
 }
@@ -58,7 +58,9 @@ struct Viscosity : ScalarField {
 };
 }  // namespace field
 
-struct VariableViscosity {
+// O: the type of particle i's values (MorrisViscosityT, viscosity_morris.hpp).
+template <class O = double>
+struct VariableViscosityT {
   static constexpr const char* name = "morris_variable";
   using Reads = Fields<field::Vol, field::Viscosity, field::Fluid>;
   // The viscosity is a function of the shear rate: reading it makes the
@@ -73,17 +75,19 @@ struct VariableViscosity {
 
   double scale;  // mu_scale / grad_scale, F carries grad_scale
   double eta2;
-  double mu_i = 0.0;
-  double scale_over_rho_i = 0.0;
+  O mu_i{};
+  O scale_over_rho_i{};
+  VariableViscosityT(double scale_, double eta2_) : scale(scale_), eta2(eta2_) {}
   template <int D>
-  explicit VariableViscosity(const TermContext<D>& c)
+  explicit VariableViscosityT(const TermContext<D>& c)
       : scale(c.sp.mu_scale / c.sp.grad_scale), eta2(c.sp.eta2) {}
 
   template <class I>
-  VariableViscosity for_particle(const I& i) const {
-    VariableViscosity bound = *this;
+  auto for_particle(const I& i) const {
+    const auto rho_i = i.own_value(field::Rho{});
+    VariableViscosityT<std::remove_const_t<decltype(rho_i)>> bound(scale, eta2);
     bound.mu_i = i.own_value(field::Viscosity{});
-    bound.scale_over_rho_i = scale / i.own_value(field::Rho{});
+    bound.scale_over_rho_i = scale / rho_i;
     return bound;
   }
 
@@ -94,5 +98,6 @@ struct VariableViscosity {
     s.visc += two_mu * scale_over_rho_i * p.lane(field::Vol{}) * p.F * p.r2 / (p.r2 + eta2);
   }
 };
+using VariableViscosity = VariableViscosityT<>;
 
 }  // namespace sphdem::terms
