@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <random>
 #include <set>
@@ -300,8 +301,74 @@ TEST(SphPairLoop, TheShippedTermsRunInRegistersWithAvx) {
   }
   sp.variable_viscosity = true;
   EXPECT_EQ((describe_pair_loop<2, SphTerms>(sp).in_registers), kAvx) << "a viscosity law";
+  // With AVX-512, one particle per lane wherever the terms run in registers.
+#if defined(__AVX512F__)
+  EXPECT_TRUE((describe_pair_loop<2, SphTerms>(sp).one_per_lane));
+  EXPECT_TRUE((describe_pair_loop<3, SphTerms>(sp).one_per_lane));
+#endif
   sp.surface_tension = 0.03;
   EXPECT_FALSE((describe_pair_loop<2, SphTerms>(sp).in_registers));
+  EXPECT_FALSE((describe_pair_loop<2, SphTerms>(sp).one_per_lane));
+}
+
+// With AVX-512 the loop puts one owned particle per lane (pair_loop.hpp,
+// kOnePerLane); PairLoopRun::per_particle forces one particle at a time.
+// Both must give the same bits in every combination of terms, with the
+// free-surface flag on the side and the close-neighbour search: each lane
+// sums its own list in order, and a lane past the end of a shorter list adds
+// nothing. The clouds' lists differ in length (walls, edges), so the groups
+// of eight are ragged. Fails when a lane adds past its list's end.
+template <int D>
+void expect_one_per_lane_bitwise(const SphParams& sp, std::uint32_t seed) {
+  const SphParticles<D> start = cloud<D>(sp, seed);
+  NeighborList<D> nl(2.0 * sp.h, 0.3 * sp.h);
+  nl.build(start);
+  SphParticles<D> lanes = start, one = start;
+  terms::CloseNeighbours close_lanes{0.5 * sp.spacing * sp.spacing, {}};
+  terms::CloseNeighbours close_one = close_lanes;
+  terms::PairLoopRun run;
+  run.side = terms::pair_loop_computes<D, SphTerms, terms::FreeSurfaceFlag>(sp);
+  run.close = &close_lanes;
+  terms::run_pair_loop<D, SphTerms>(sp, nl, lanes, run);
+  run.per_particle = true;
+  run.close = &close_one;
+  terms::run_pair_loop<D, SphTerms>(sp, nl, one, run);
+  std::size_t fluid = 0;
+  for (std::size_t i = 0; i < start.n_owned; ++i) {
+    if (start.kind[i] != Kind::Fluid) continue;
+    ++fluid;
+    for (int d = 0; d < D; ++d)
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(lanes.a[i][d]),
+                std::bit_cast<std::uint64_t>(one.a[i][d]))
+          << "particle " << i << " axis " << d;
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(lanes.drho[i]),
+              std::bit_cast<std::uint64_t>(one.drho[i]))
+        << "particle " << i;
+    EXPECT_EQ(lanes.free_surface[i], one.free_surface[i]) << "particle " << i;
+  }
+  EXPECT_GT(fluid, 8u) << "more than one group of eight";
+  EXPECT_EQ(close_lanes.particles, close_one.particles);
+}
+
+TEST(SphPairLoop, OneParticlePerLaneGivesTheBitsOfOneAtATime) {
+  for (int visc : {0, 1, 2})
+    for (double alpha : {0.0, 0.05})
+      for (double delta : {0.0, 0.1})
+        for (int clump : {0, 4, 3}) {
+          SphParams sp = base_params();
+          sp.mu = visc == 0 ? 0.0 : 0.1;
+          sp.variable_viscosity = visc == 2;
+          sp.alpha = alpha;
+          sp.delta = delta;
+          sp.anti_clump = clump != 0;
+          sp.anti_clump_n = clump == 0 ? 4 : clump;
+          SCOPED_TRACE(testing::Message() << "visc " << visc << " alpha " << alpha << " delta "
+                                          << delta << " clump " << clump);
+          for (std::uint32_t seed : {7u, 11u}) {
+            expect_one_per_lane_bitwise<2>(sp, seed);
+            expect_one_per_lane_bitwise<3>(sp, seed);
+          }
+        }
 }
 
 // A term written outside the library: a per-particle prepared field (the

@@ -333,7 +333,10 @@ struct PairLoopRun {
   // `refill` again (a second run of the same loop, once a side pass's output
   // has changed some records; the other records are kept from the first run).
   const std::vector<std::uint32_t>* redo = nullptr;
-  const std::vector<std::uint32_t>* refill = nullptr;
+  const std::vector<std::uint32_t>* refill =
+      nullptr;  // One particle at a time even where the loop would put one particle per
+  // lane (kOnePerLane): the two forms give the same bits, which a test checks.
+  bool per_particle = false;
 };
 
 // Square roots of one double or of a register of doubles (the pair loop's r).
@@ -498,238 +501,243 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     };
 
     if constexpr (kOnePerLane) {
+      if (!run.per_particle) {
 #if defined(__AVX512F__)
-      // One particle per lane (docs/performance.md, "One particle per
-      // lane"): eight owned resin particles at a time, slot k holding each
-      // one's k-th neighbour. Each lane's sums then run in its list's order
-      // by themselves, as step 3's do, and no per-pair result, lane row or
-      // remainder block is stored; a lane past its list's end adds nothing
-      // (a masked add) to a sum that started at +0, so the bits are those of
-      // one particle at a time.
-      using VR = __m512d;
-      using Gather = GatherLanes<D, typename N::LaneFields>;
-      static thread_local std::vector<std::int32_t> slot_index;
-      std::size_t at = 0;
-      while (at < count) {
-        std::uint32_t ids[8];
-        int m = 0;
-        for (; at < count && m < 8; ++at) {
-          const std::size_t i = redo != nullptr ? redo[at] : at;
-          if (ps.kind[i] == Kind::Fluid) ids[m++] = static_cast<std::uint32_t>(i);
-        }
-        if (m == 0) break;
-        for (int l = m; l < 8; ++l) ids[l] = ids[m - 1];
-        // The particles' records, one lane each.
-        VR own_rows[Record::kSize];
-        for (std::size_t c = 0; c < Record::kSize; ++c)
-          own_rows[c] =
-              _mm512_set_pd(rec[ids[7]].v[c], rec[ids[6]].v[c], rec[ids[5]].v[c], rec[ids[4]].v[c],
-                            rec[ids[3]].v[c], rec[ids[2]].v[c], rec[ids[1]].v[c], rec[ids[0]].v[c]);
-        const auto bound = std::make_tuple(for_particle(
-            std::get<typename S::Term>(terms),
-            OwnView<Record,
-                    typename MergeAll<false, typename S::Term::Reads,
-                                      typename OwnReadsOf<typename S::Term>::type>::type,
-                    VR>{own_rows})...);
-        // The lists slot by slot; past a list's end its last neighbour (or
-        // the particle itself), read and masked out.
-        alignas(64) std::int64_t len[8];
-        std::size_t most = 0;
-        for (int l = 0; l < 8; ++l) {
-          len[l] = l < m ? static_cast<std::int64_t>(nl.end(ids[l]) - nl.begin(ids[l])) : 0;
-          most = std::max(most, static_cast<std::size_t>(len[l]));
-        }
-        slot_index.resize(8 * most);
-        for (int l = 0; l < 8; ++l) {
-          const NeighborRow nb = nl.row(ids[l]);
-          const std::size_t b = nl.begin(ids[l]);
-          const auto n = static_cast<std::size_t>(len[l]);
-          for (std::size_t k = 0; k < n; ++k) slot_index[k * 8 + l] = nb[b + k];
-          const std::int32_t last =
-              n > 0 ? slot_index[(n - 1) * 8 + l] : static_cast<std::int32_t>(ids[l]);
-          for (std::size_t k = n; k < most; ++k) slot_index[k * 8 + l] = last;
-        }
-        const __m512i lenv = _mm512_load_si512(len);
-        VR acc[D];
-        for (int d = 0; d < D; ++d) acc[d] = splat<VR>(0.0);
-        VR drho = splat<VR>(0.0), side_sum = splat<VR>(0.0), r2min = splat<VR>(1e300);
-        for (std::size_t k = 0; k < most; ++k) {
-          const std::int32_t* const j = slot_index.data() + k * 8;
-          const double* const r8[8] = {rec[j[0]].v, rec[j[1]].v, rec[j[2]].v, rec[j[3]].v,
-                                       rec[j[4]].v, rec[j[5]].v, rec[j[6]].v, rec[j[7]].v};
-          VR rows[Lanes::kSize];
-          Gather::template rows<Lanes, Record>(own_rows, r8, rows);
-          const PairOut<VR, D> o = pair_step(
-              std::type_identity<VR>{}, bound, [&](std::size_t row) { return rows[row]; },
-              [&]<class R, class O>(std::type_identity<R>, std::type_identity<O>, VR r2, VR r, VR q,
-                                    VR t, VR F) {
-                return RegisterPairView<D, Lanes, Record, R, O, VR, VR>{rows, own_rows, r2, r,
-                                                                        q,    t,        F};
-              });
-          const __mmask8 in =
-              _mm512_cmpgt_epi64_mask(lenv, _mm512_set1_epi64(static_cast<long long>(k)));
-          for (int d = 0; d < D; ++d) acc[d] = _mm512_mask_add_pd(acc[d], in, acc[d], o.acc[d]);
-          drho = _mm512_mask_add_pd(drho, in, drho, o.drho);
-          if constexpr (kSide) side_sum = _mm512_mask_add_pd(side_sum, in, side_sum, o.side);
-          // r2min = r2 < r2min ? r2 : r2min, as the other forms.
-          r2min =
-              _mm512_mask_mov_pd(r2min, _mm512_mask_cmp_pd_mask(in, o.r2, r2min, _CMP_LT_OQ), o.r2);
-        }
-        alignas(64) double acc_out[D][8], drho_out[8], side_out[8], r2_out[8];
-        for (int d = 0; d < D; ++d) _mm512_store_pd(acc_out[d], acc[d]);
-        _mm512_store_pd(drho_out, drho);
-        _mm512_store_pd(side_out, side_sum);
-        _mm512_store_pd(r2_out, r2min);
-        for (int l = 0; l < m; ++l) {
-          const std::size_t i = ids[l];
-          Vec<D> a;
-          for (int d = 0; d < D; ++d) a[d] = acc_out[d][l];
-          ps.a[i] = a + g;
-          ps.drho[i] = drho_out[l];
-          if (close2 > 0.0 && r2_out[l] < close2)
-            close->particles.push_back(static_cast<std::uint32_t>(i));
-          if constexpr (kSide) {
-            if (side) {
-              bool side_i = true;
-              if constexpr (requires { Side::template wanted<D>(sp, ps, i); })
-                side_i = Side::template wanted<D>(sp, ps, i);
-              const double sums[1] = {side_out[l]};
-              Side::output(ps)[i] = side_i ? Side{}.template finish<D>(sums) : 0.0;
-            }
-          }
-        }
-      }
-#endif
-    } else {
-      for (std::size_t at = 0; at < count; ++at) {
-        const std::size_t i = redo != nullptr ? redo[at] : at;
-        if (ps.kind[i] != Kind::Fluid) continue;
-        const double* own = rec[i].v;
-        const auto bound = std::make_tuple(for_particle(
-            std::get<typename S::Term>(terms),
-            OwnView<Record, typename MergeAll<false, typename S::Term::Reads,
-                                              typename OwnReadsOf<typename S::Term>::type>::type>{
-                own})...);
-        Vec<D> acc = Vec<D>::Zero();
-        double drho_sum = 0.0;
-        [[maybe_unused]] double side_sum[1] = {};  // as the pass's sums start
-        // The side pass's value only where its readers read it (its wanted).
-        [[maybe_unused]] bool side_i = false;
-        if constexpr (kSide) {
-          side_i = side;
-          if constexpr (requires { Side::template wanted<D>(sp, ps, i); })
-            side_i = side_i && Side::template wanted<D>(sp, ps, i);
-        }
-        int near = 0;  // some neighbour within close2
-        const NeighborRow nb = nl.row(i);
-
-        // Steps 1 and 2 for a block of pairs in registers (rows: the gather's
-        // lane rows) from pair k of the chunk on: the rows are never stored and
-        // loaded again.
-        [[maybe_unused]] const auto pairs_in_registers = [&]<class V>(const V* rows, std::size_t k,
-                                                                      V& r2min) {
-          const PairOut<V, D> o = pair_step(
-              std::type_identity<V>{}, bound, [&](std::size_t row) { return rows[row]; },
-              [&]<class R, class O>(std::type_identity<R>, std::type_identity<O>, V r2, V r, V q,
-                                    V t, V F) {
-                return RegisterPairView<D, Lanes, Record, R, O, V>{rows, own, r2, r, q, t, F};
-              });
-          for (int d = 0; d < D; ++d) __builtin_memcpy(acc_lane[d] + k, &o.acc[d], sizeof(V));
-          __builtin_memcpy(drho_lane + k, &o.drho, sizeof(V));
-          if constexpr (kSide) __builtin_memcpy(side_lane + k, &o.side, sizeof(V));
-          r2min = o.r2 < r2min ? o.r2 : r2min;
-        };
-
-        for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
-          const std::size_t cnt = std::min(kChunk, e - b);
-
-          // 1. Gather: eight or four neighbours at a time where AVX-512 or AVX
-          // is there (the last block repeats the chunk's last neighbour; step 2
-          // reads k < cnt). The chunk's indices decoded once (16- or 32-bit
-          // lists, NeighborRow), padded with the last one to a whole block.
+        // (VR deduced, not spelled: GCC drops __m512d's attributes from an
+        // explicit template argument, and says so.)
+        [&]<class VR>(const VR*) {
+          // One particle per lane (docs/performance.md, "One particle per
+          // lane"): eight owned resin particles at a time, slot k holding each
+          // one's k-th neighbour. Each lane's sums then run in its list's order
+          // by themselves, as step 3's do, and no per-pair result, lane row or
+          // remainder block is stored; a lane past its list's end adds nothing
+          // (a masked add) to a sum that started at +0, so the bits are those of
+          // one particle at a time.
           using Gather = GatherLanes<D, typename N::LaneFields>;
-          alignas(64) std::int32_t idx[kChunk + 3];
-          for (std::size_t k = 0; k < cnt; ++k) idx[k] = nb[b + k];
-          idx[cnt] = idx[cnt + 1] = idx[cnt + 2] = nb[b + cnt - 1];  // cnt >= 1
-
-          if constexpr (kInRegisters) {
-#if defined(__AVX__)
-            // Steps 1 and 2 in registers: eight neighbours at a time with
-            // AVX-512 while a block holds five or more, then four at a time
-            // (docs/performance.md, "Steps 1 and 2 in registers").
-            std::size_t k = 0;
-#if defined(__AVX512F__)
-            __m512d r2min8 = splat<__m512d>(1e300);
-            for (; k + 4 < cnt; k += 8) {
-              const double* const r8[8] = {rec[idx[k]].v,     rec[idx[k + 1]].v, rec[idx[k + 2]].v,
-                                           rec[idx[k + 3]].v, rec[idx[k + 4]].v, rec[idx[k + 5]].v,
-                                           rec[idx[k + 6]].v, rec[idx[k + 7]].v};
-              __m512d rows[Lanes::kSize];
-              Gather::template rows<Lanes, Record>(own, r8, rows);
-              pairs_in_registers(rows, k, r2min8);
+          static thread_local std::vector<std::int32_t> slot_index;
+          std::size_t at = 0;
+          while (at < count) {
+            std::uint32_t ids[8];
+            int m = 0;
+            for (; at < count && m < 8; ++at) {
+              const std::size_t i = redo != nullptr ? redo[at] : at;
+              if (ps.kind[i] == Kind::Fluid) ids[m++] = static_cast<std::uint32_t>(i);
             }
-#endif
-            __m256d r2min4 = splat<__m256d>(1e300);
-            for (; k < cnt; k += 4) {
-              const double* const r4[4] = {rec[idx[k]].v, rec[idx[k + 1]].v, rec[idx[k + 2]].v,
-                                           rec[idx[k + 3]].v};
-              __m256d rows[Lanes::kSize];
-              Gather::template rows<Lanes, Record>(own, r4, rows);
-              pairs_in_registers(rows, k, r2min4);
+            if (m == 0) break;
+            for (int l = m; l < 8; ++l) ids[l] = ids[m - 1];
+            // The particles' records, one lane each.
+            VR own_rows[Record::kSize];
+            for (std::size_t c = 0; c < Record::kSize; ++c)
+              own_rows[c] = _mm512_set_pd(rec[ids[7]].v[c], rec[ids[6]].v[c], rec[ids[5]].v[c],
+                                          rec[ids[4]].v[c], rec[ids[3]].v[c], rec[ids[2]].v[c],
+                                          rec[ids[1]].v[c], rec[ids[0]].v[c]);
+            const auto bound = std::make_tuple(for_particle(
+                std::get<typename S::Term>(terms),
+                OwnView<Record,
+                        typename MergeAll<false, typename S::Term::Reads,
+                                          typename OwnReadsOf<typename S::Term>::type>::type,
+                        VR>{own_rows})...);
+            // The lists slot by slot; past a list's end its last neighbour (or
+            // the particle itself), read and masked out.
+            alignas(64) std::int64_t len[8];
+            std::size_t most = 0;
+            for (int l = 0; l < 8; ++l) {
+              len[l] = l < m ? static_cast<std::int64_t>(nl.end(ids[l]) - nl.begin(ids[l])) : 0;
+              most = std::max(most, static_cast<std::size_t>(len[l]));
             }
-            if (close2 > 0.0) {
-              for (int m = 0; m < 4; ++m) near |= r2min4[m] < close2 ? 1 : 0;
-#if defined(__AVX512F__)
-              for (int m = 0; m < 8; ++m) near |= r2min8[m] < close2 ? 1 : 0;
-#endif
+            slot_index.resize(8 * most);
+            for (int l = 0; l < 8; ++l) {
+              const NeighborRow nb = nl.row(ids[l]);
+              const std::size_t b = nl.begin(ids[l]);
+              const auto n = static_cast<std::size_t>(len[l]);
+              for (std::size_t k = 0; k < n; ++k) slot_index[k * 8 + l] = nb[b + k];
+              const std::int32_t last =
+                  n > 0 ? slot_index[(n - 1) * 8 + l] : static_cast<std::int32_t>(ids[l]);
+              for (std::size_t k = n; k < most; ++k) slot_index[k * 8 + l] = last;
             }
-#endif
-          } else {
-            Gather::template chunk<Lanes, Record>(own, rec, idx, cnt, lanes);
-
-            // 2. Pair terms (vectorized by GCC).
-            for (std::size_t k = 0; k < cnt; ++k) {
-              const PairOut<double, D> o = pair_step(
-                  std::type_identity<double>{}, bound,
-                  [&](std::size_t row) { return lanes[row * kChunk + k]; },
-                  [&]<class R, class O>(std::type_identity<R>, std::type_identity<O>, double r2,
-                                        double r, double q, double t, double F) {
-                    return PairView<D, Lanes, Record, R, O>{lanes, k, own, r2, r, q, t, F};
+            const __m512i lenv = _mm512_load_si512(len);
+            VR acc[D];
+            for (int d = 0; d < D; ++d) acc[d] = splat<VR>(0.0);
+            VR drho = splat<VR>(0.0), side_sum = splat<VR>(0.0), r2min = splat<VR>(1e300);
+            for (std::size_t k = 0; k < most; ++k) {
+              const std::int32_t* const j = slot_index.data() + k * 8;
+              const double* const r8[8] = {rec[j[0]].v, rec[j[1]].v, rec[j[2]].v, rec[j[3]].v,
+                                           rec[j[4]].v, rec[j[5]].v, rec[j[6]].v, rec[j[7]].v};
+              VR rows[Lanes::kSize];
+              Gather::template rows<Lanes, Record>(own_rows, r8, rows);
+              const PairOut<VR, D> o = pair_step(
+                  std::type_identity<VR>{}, bound, [&](std::size_t row) { return rows[row]; },
+                  [&]<class R, class O>(std::type_identity<R>, std::type_identity<O>, VR r2, VR r,
+                                        VR q, VR t, VR F) {
+                    return RegisterPairView<D, Lanes, Record, R, O, VR, VR>{rows, own_rows, r2, r,
+                                                                            q,    t,        F};
                   });
-              for (int d = 0; d < D; ++d) acc_lane[d][k] = o.acc[d];
-              drho_lane[k] = o.drho;
-              if constexpr (kSide) side_lane[k] = o.side;
+              const __mmask8 in =
+                  _mm512_cmpgt_epi64_mask(lenv, _mm512_set1_epi64(static_cast<long long>(k)));
+              for (int d = 0; d < D; ++d) acc[d] = _mm512_mask_add_pd(acc[d], in, acc[d], o.acc[d]);
+              drho = _mm512_mask_add_pd(drho, in, drho, o.drho);
+              if constexpr (kSide) side_sum = _mm512_mask_add_pd(side_sum, in, side_sum, o.side);
+              // r2min = r2 < r2min ? r2 : r2min, as the other forms.
+              r2min = _mm512_mask_mov_pd(
+                  r2min, _mm512_mask_cmp_pd_mask(in, o.r2, r2min, _CMP_LT_OQ), o.r2);
             }
-
-            // Some neighbour within close2 (a loop of its own: inside step 2's
-            // loop the reduction made GCC version that loop).
-            if (close2 > 0.0)
-              for (std::size_t k = 0; k < cnt; ++k) {
-                double r2 = 0.0;
-                for (int d = 0; d < D; ++d) {
-                  const double x = lanes[(kPos + d) * kChunk + k];
-                  r2 += x * x;
+            alignas(64) double acc_out[D][8], drho_out[8], side_out[8], r2_out[8];
+            for (int d = 0; d < D; ++d) _mm512_store_pd(acc_out[d], acc[d]);
+            _mm512_store_pd(drho_out, drho);
+            _mm512_store_pd(side_out, side_sum);
+            _mm512_store_pd(r2_out, r2min);
+            for (int l = 0; l < m; ++l) {
+              const std::size_t i = ids[l];
+              Vec<D> a;
+              for (int d = 0; d < D; ++d) a[d] = acc_out[d][l];
+              ps.a[i] = a + g;
+              ps.drho[i] = drho_out[l];
+              if (close2 > 0.0 && r2_out[l] < close2)
+                close->particles.push_back(static_cast<std::uint32_t>(i));
+              if constexpr (kSide) {
+                if (side) {
+                  bool side_i = true;
+                  if constexpr (requires { Side::template wanted<D>(sp, ps, i); })
+                    side_i = Side::template wanted<D>(sp, ps, i);
+                  const double sums[1] = {side_out[l]};
+                  Side::output(ps)[i] = side_i ? Side{}.template finish<D>(sums) : 0.0;
                 }
-                near |= r2 < close2 ? 1 : 0;
               }
+            }
+          }
+        }(static_cast<const __m512d*>(nullptr));
+#endif
+        return;
+      }
+    }
+    for (std::size_t at = 0; at < count; ++at) {
+      const std::size_t i = redo != nullptr ? redo[at] : at;
+      if (ps.kind[i] != Kind::Fluid) continue;
+      const double* own = rec[i].v;
+      const auto bound = std::make_tuple(for_particle(
+          std::get<typename S::Term>(terms),
+          OwnView<Record, typename MergeAll<false, typename S::Term::Reads,
+                                            typename OwnReadsOf<typename S::Term>::type>::type>{
+              own})...);
+      Vec<D> acc = Vec<D>::Zero();
+      double drho_sum = 0.0;
+      [[maybe_unused]] double side_sum[1] = {};  // as the pass's sums start
+      // The side pass's value only where its readers read it (its wanted).
+      [[maybe_unused]] bool side_i = false;
+      if constexpr (kSide) {
+        side_i = side;
+        if constexpr (requires { Side::template wanted<D>(sp, ps, i); })
+          side_i = side_i && Side::template wanted<D>(sp, ps, i);
+      }
+      int near = 0;  // some neighbour within close2
+      const NeighborRow nb = nl.row(i);
+
+      // Steps 1 and 2 for a block of pairs in registers (rows: the gather's
+      // lane rows) from pair k of the chunk on: the rows are never stored and
+      // loaded again.
+      [[maybe_unused]] const auto pairs_in_registers = [&]<class V>(const V* rows, std::size_t k,
+                                                                    V& r2min) {
+        const PairOut<V, D> o = pair_step(
+            std::type_identity<V>{}, bound, [&](std::size_t row) { return rows[row]; },
+            [&]<class R, class O>(std::type_identity<R>, std::type_identity<O>, V r2, V r, V q, V t,
+                                  V F) {
+              return RegisterPairView<D, Lanes, Record, R, O, V>{rows, own, r2, r, q, t, F};
+            });
+        for (int d = 0; d < D; ++d) __builtin_memcpy(acc_lane[d] + k, &o.acc[d], sizeof(V));
+        __builtin_memcpy(drho_lane + k, &o.drho, sizeof(V));
+        if constexpr (kSide) __builtin_memcpy(side_lane + k, &o.side, sizeof(V));
+        r2min = o.r2 < r2min ? o.r2 : r2min;
+      };
+
+      for (std::size_t b = nl.begin(i), e = nl.end(i); b < e; b += kChunk) {
+        const std::size_t cnt = std::min(kChunk, e - b);
+
+        // 1. Gather: eight or four neighbours at a time where AVX-512 or AVX
+        // is there (the last block repeats the chunk's last neighbour; step 2
+        // reads k < cnt). The chunk's indices decoded once (16- or 32-bit
+        // lists, NeighborRow), padded with the last one to a whole block.
+        using Gather = GatherLanes<D, typename N::LaneFields>;
+        alignas(64) std::int32_t idx[kChunk + 3];
+        for (std::size_t k = 0; k < cnt; ++k) idx[k] = nb[b + k];
+        idx[cnt] = idx[cnt + 1] = idx[cnt + 2] = nb[b + cnt - 1];  // cnt >= 1
+
+        if constexpr (kInRegisters) {
+#if defined(__AVX__)
+          // Steps 1 and 2 in registers: eight neighbours at a time with
+          // AVX-512 while a block holds five or more, then four at a time
+          // (docs/performance.md, "Steps 1 and 2 in registers").
+          std::size_t k = 0;
+#if defined(__AVX512F__)
+          __m512d r2min8 = splat<__m512d>(1e300);
+          for (; k + 4 < cnt; k += 8) {
+            const double* const r8[8] = {rec[idx[k]].v,     rec[idx[k + 1]].v, rec[idx[k + 2]].v,
+                                         rec[idx[k + 3]].v, rec[idx[k + 4]].v, rec[idx[k + 5]].v,
+                                         rec[idx[k + 6]].v, rec[idx[k + 7]].v};
+            __m512d rows[Lanes::kSize];
+            Gather::template rows<Lanes, Record>(own, r8, rows);
+            pairs_in_registers(rows, k, r2min8);
+          }
+#endif
+          __m256d r2min4 = splat<__m256d>(1e300);
+          for (; k < cnt; k += 4) {
+            const double* const r4[4] = {rec[idx[k]].v, rec[idx[k + 1]].v, rec[idx[k + 2]].v,
+                                         rec[idx[k + 3]].v};
+            __m256d rows[Lanes::kSize];
+            Gather::template rows<Lanes, Record>(own, r4, rows);
+            pairs_in_registers(rows, k, r2min4);
+          }
+          if (close2 > 0.0) {
+            for (int m = 0; m < 4; ++m) near |= r2min4[m] < close2 ? 1 : 0;
+#if defined(__AVX512F__)
+            for (int m = 0; m < 8; ++m) near |= r2min8[m] < close2 ? 1 : 0;
+#endif
+          }
+#endif
+        } else {
+          Gather::template chunk<Lanes, Record>(own, rec, idx, cnt, lanes);
+
+          // 2. Pair terms (vectorized by GCC).
+          for (std::size_t k = 0; k < cnt; ++k) {
+            const PairOut<double, D> o = pair_step(
+                std::type_identity<double>{}, bound,
+                [&](std::size_t row) { return lanes[row * kChunk + k]; },
+                [&]<class R, class O>(std::type_identity<R>, std::type_identity<O>, double r2,
+                                      double r, double q, double t, double F) {
+                  return PairView<D, Lanes, Record, R, O>{lanes, k, own, r2, r, q, t, F};
+                });
+            for (int d = 0; d < D; ++d) acc_lane[d][k] = o.acc[d];
+            drho_lane[k] = o.drho;
+            if constexpr (kSide) side_lane[k] = o.side;
           }
 
-          // 3. Sum in list (global-id) order.
-          for (std::size_t k = 0; k < cnt; ++k) {
-            for (int d = 0; d < D; ++d) acc[d] += acc_lane[d][k];
-            drho_sum += drho_lane[k];
-          }
-          if constexpr (kSide)
-            if (side_i)
-              for (std::size_t k = 0; k < cnt; ++k) side_sum[0] += side_lane[k];
+          // Some neighbour within close2 (a loop of its own: inside step 2's
+          // loop the reduction made GCC version that loop).
+          if (close2 > 0.0)
+            for (std::size_t k = 0; k < cnt; ++k) {
+              double r2 = 0.0;
+              for (int d = 0; d < D; ++d) {
+                const double x = lanes[(kPos + d) * kChunk + k];
+                r2 += x * x;
+              }
+              near |= r2 < close2 ? 1 : 0;
+            }
         }
-        ps.a[i] = acc + g;
-        ps.drho[i] = drho_sum;
-        if (near != 0) close->particles.push_back(static_cast<std::uint32_t>(i));
-        // The side pass's value where it is read, 0 elsewhere (as the pass).
+
+        // 3. Sum in list (global-id) order.
+        for (std::size_t k = 0; k < cnt; ++k) {
+          for (int d = 0; d < D; ++d) acc[d] += acc_lane[d][k];
+          drho_sum += drho_lane[k];
+        }
         if constexpr (kSide)
-          if (side) Side::output(ps)[i] = side_i ? Side{}.template finish<D>(side_sum) : 0.0;
+          if (side_i)
+            for (std::size_t k = 0; k < cnt; ++k) side_sum[0] += side_lane[k];
       }
+      ps.a[i] = acc + g;
+      ps.drho[i] = drho_sum;
+      if (near != 0) close->particles.push_back(static_cast<std::uint32_t>(i));
+      // The side pass's value where it is read, 0 elsewhere (as the pass).
+      if constexpr (kSide)
+        if (side) Side::output(ps)[i] = side_i ? Side{}.template finish<D>(side_sum) : 0.0;
     }
   }(Sel{});
 }
@@ -743,6 +751,7 @@ struct LoopDescription {
   std::vector<std::string> lanes;   // fields gathered per neighbour
   std::size_t record_bytes = 0;
   bool in_registers = false;  // steps 1 and 2 in registers (InRegisters)
+  bool one_per_lane = false;  // and one particle per lane (kOnePerLane)
 };
 
 template <int D, class List, std::size_t C>
@@ -759,6 +768,9 @@ LoopDescription describe_loop() {
   out.record_bytes = N::kStride * sizeof(double);
   out.in_registers =
       InRegisters<typename Registry<List>::template Select<C>, typename N::Side>::value;
+#if defined(__AVX512F__) && !defined(SPHDEM_PAIRS_PER_PARTICLE)
+  out.one_per_lane = out.in_registers;
+#endif
   return out;
 }
 
