@@ -257,14 +257,17 @@ void expect_loop_matches_direct_sum(const SphParams& sp) {
   }
 }
 
-TEST(SphPairLoop, EqualsTheDirectSumOfTheTermsInEveryCombination) {
-  for (int visc : {0, 1, 2})  // none, Morris, a law (per-particle viscosity)
+// Calls f with the parameters of every combination of the terms without
+// surface tension: viscosity (none, Morris, a law with per-particle
+// viscosity), artificial viscosity, delta-SPH, anti-clump (off, n = 4, n = 3).
+template <class F>
+void for_every_term_combination(const F& f) {
+  for (int visc : {0, 1, 2})
     for (double alpha : {0.0, 0.05})
       for (double delta : {0.0, 0.1})
         for (int clump : {0, 4, 3}) {
           SphParams sp = base_params();
-          const double mu = visc == 0 ? 0.0 : 0.1;
-          sp.mu = mu;
+          sp.mu = visc == 0 ? 0.0 : 0.1;
           sp.variable_viscosity = visc == 2;
           sp.alpha = alpha;
           sp.delta = delta;
@@ -272,9 +275,15 @@ TEST(SphPairLoop, EqualsTheDirectSumOfTheTermsInEveryCombination) {
           sp.anti_clump_n = clump == 0 ? 4 : clump;
           SCOPED_TRACE(testing::Message() << "visc " << visc << " alpha " << alpha << " delta "
                                           << delta << " clump " << clump);
-          expect_loop_matches_direct_sum<2>(sp);
-          expect_loop_matches_direct_sum<3>(sp);
+          f(sp);
         }
+}
+
+TEST(SphPairLoop, EqualsTheDirectSumOfTheTermsInEveryCombination) {
+  for_every_term_combination([](const SphParams& sp) {
+    expect_loop_matches_direct_sum<2>(sp);
+    expect_loop_matches_direct_sum<3>(sp);
+  });
 }
 
 // The shipped cases' terms (the channel: continuity, delta-SPH, pressure,
@@ -351,24 +360,12 @@ void expect_one_per_lane_bitwise(const SphParams& sp, std::uint32_t seed) {
 }
 
 TEST(SphPairLoop, OneParticlePerLaneGivesTheBitsOfOneAtATime) {
-  for (int visc : {0, 1, 2})
-    for (double alpha : {0.0, 0.05})
-      for (double delta : {0.0, 0.1})
-        for (int clump : {0, 4, 3}) {
-          SphParams sp = base_params();
-          sp.mu = visc == 0 ? 0.0 : 0.1;
-          sp.variable_viscosity = visc == 2;
-          sp.alpha = alpha;
-          sp.delta = delta;
-          sp.anti_clump = clump != 0;
-          sp.anti_clump_n = clump == 0 ? 4 : clump;
-          SCOPED_TRACE(testing::Message() << "visc " << visc << " alpha " << alpha << " delta "
-                                          << delta << " clump " << clump);
-          for (std::uint32_t seed : {7u, 11u}) {
-            expect_one_per_lane_bitwise<2>(sp, seed);
-            expect_one_per_lane_bitwise<3>(sp, seed);
-          }
-        }
+  for_every_term_combination([](const SphParams& sp) {
+    for (std::uint32_t seed : {7u, 11u}) {
+      expect_one_per_lane_bitwise<2>(sp, seed);
+      expect_one_per_lane_bitwise<3>(sp, seed);
+    }
+  });
 }
 
 // A term written outside the library: a per-particle prepared field (the
