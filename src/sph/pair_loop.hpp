@@ -18,7 +18,10 @@
 // terms are computed on them straight away, so no lane row is stored and
 // loaded again (docs/performance.md, "Steps 1 and 2 in registers"). Both
 // forms run the same step-2 code (pair_step), on one double or on a
-// register of them.
+// register of them. With AVX-512 the register form puts one owned particle
+// in each lane instead, slot k holding each one's k-th neighbour, so each
+// lane sums its own list in order and step 3 disappears (docs/performance.md,
+// "One particle per lane").
 // The neighbour list is sorted by global id, and step 3 is a plain
 // sequential sum in that order, so the result does not depend on the
 // particle layout or the rank count (docs/performance.md).
@@ -333,8 +336,8 @@ struct PairLoopRun {
   // `refill` again (a second run of the same loop, once a side pass's output
   // has changed some records; the other records are kept from the first run).
   const std::vector<std::uint32_t>* redo = nullptr;
-  const std::vector<std::uint32_t>* refill =
-      nullptr;  // One particle at a time even where the loop would put one particle per
+  const std::vector<std::uint32_t>* refill = nullptr;
+  // One particle at a time even where the loop would put one particle per
   // lane (kOnePerLane): the two forms give the same bits, which a test checks.
   bool per_particle = false;
 };
