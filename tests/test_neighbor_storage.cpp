@@ -195,6 +195,29 @@ TEST(NeighborStorage, GidsPast32BitsMatchBruteForce) {
   expect_all_rows(ps, nl);
 }
 
+// In 2D a cell's particles share one list of candidates, put in list order
+// once (src/neighbor/cell_candidates.hpp): up to 64 of them by a branch-free
+// rank sort, more by std::sort. A large cut-off (blocks of about 340
+// candidates), a small one (about 4) and a cloud not sorted by cell (a
+// cell's particles far apart in memory, its candidates gathered again and
+// again) all give the brute force's lists.
+TEST(NeighborStorage, SharedCellCandidatesOfEverySizeMatchBruteForce) {
+  for (const double support : {0.3, 1.0, 2.0}) {
+    const SphParticles<2> ps = random_cloud(5, 0);
+    NeighborList<2> nl(support, 0.5 * support);
+    nl.build(ps);
+    expect_all_rows(ps, nl);
+  }
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 10.0);
+  SphParticles<2> unsorted;
+  for (int k = 0; k < 500; ++k)
+    add(unsorted, 499 - k, k % 4 == 0 ? Kind::Wall : Kind::Fluid, {u(rng), u(rng)});
+  NeighborList<2> nl(1.0, 0.2);
+  nl.build(unsorted);
+  expect_all_rows(unsorted, nl);
+}
+
 // A particle two million cut-offs from the others (a runaway): the grid
 // takes at most 2^20 cells along that axis, each wider than the cut-off,
 // not 1.7 million of them; the sort by cell and the lists are still right.

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "cell_candidates.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/core/scratch.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
@@ -44,19 +45,34 @@ struct Grid {
   long cells() const { return n[0] * n[1] * n[2]; }
 };
 
+// Over the first `count` particles. The cells' corners sit on the grid of
+// the first `aligned` ones' (where that grid's cells are `cell` wide): the
+// list build's cells are then sort_by_cell's, and the particles of a cell
+// follow one another (a cell's candidates serve them all in turn).
 template <int D>
-Grid<D> make_grid(const std::vector<Vec<D>>& x, std::size_t count, double cell) {
+Grid<D> make_grid(const std::vector<Vec<D>>& x, std::size_t count, double cell,
+                  std::size_t aligned = 0) {
   Grid<D> g;
-  Vec<D> hi;
+  Vec<D> hi, lo_aligned;
   g.lo.setConstant(std::numeric_limits<double>::infinity());
   hi.setConstant(-std::numeric_limits<double>::infinity());
+  lo_aligned = g.lo;
   for (std::size_t i = 0; i < count; ++i) {
     g.lo = g.lo.cwiseMin(x[i]);
     hi = hi.cwiseMax(x[i]);
+    if (i < aligned) lo_aligned = lo_aligned.cwiseMin(x[i]);
   }
   if (count == 0) {
     g.lo.setZero();
     hi.setZero();
+  }
+  for (int k = 0; k < D; ++k) {
+    // Whole cells below the aligned grid's corner down to the others'.
+    const double below = std::ceil((lo_aligned[k] - g.lo[k]) / cell);
+    if (std::isfinite(below) && below >= 0.0 && below < static_cast<double>(kMaxCellsPerAxis)) {
+      const double lo = lo_aligned[k] - below * cell;
+      if (lo <= g.lo[k]) g.lo[k] = lo;
+    }
   }
   double cells = 1.0;
   for (int k = 0; k < D; ++k) {
@@ -157,33 +173,6 @@ bool fits_16(std::int32_t offset) {
 // The largest gid a packed candidate key holds (the upper 32 bits).
 constexpr std::int64_t kMaxPackedGid = std::numeric_limits<std::uint32_t>::max();
 
-// Orders a list by gid; two periodic images of one particle share a gid (a
-// period shorter than two cut-offs): their position breaks the tie, so the
-// order never depends on where the images sit in memory.
-template <int D>
-bool image_before(const SphParticles<D>& ps, std::int32_t a, std::int32_t b) {
-  return std::lexicographical_compare(ps.x[a].begin(), ps.x[a].end(), ps.x[b].begin(),
-                                      ps.x[b].end());
-}
-
-// The m keys (gid << 32 | index) in gid order: an integer sort, then each
-// run of one gid (periodic images) by position.
-template <int D>
-void sort_packed(const SphParticles<D>& ps, std::uint64_t* key, std::size_t m) {
-  std::sort(key, key + m);
-  for (std::size_t a = 0; a + 1 < m;) {
-    std::size_t b = a + 1;
-    while (b < m && key[b] >> 32 == key[a] >> 32) ++b;
-    if (b - a > 1) {
-      std::sort(key + a, key + b, [&](std::uint64_t p, std::uint64_t q) {
-        return image_before<D>(ps, static_cast<std::int32_t>(p & 0xffffffffU),
-                               static_cast<std::int32_t>(q & 0xffffffffU));
-      });
-    }
-    a = b;
-  }
-}
-
 // The same order when some gid does not fit 32 bits: the keys' indices
 // sorted by (gid, position) read from the particles.
 template <int D>
@@ -192,7 +181,7 @@ void sort_unpacked(const SphParticles<D>& ps, std::uint64_t* key, std::size_t m)
     const auto a = static_cast<std::int32_t>(p & 0xffffffffU);
     const auto b = static_cast<std::int32_t>(q & 0xffffffffU);
     if (ps.gid[a] != ps.gid[b]) return ps.gid[a] < ps.gid[b];
-    return image_before<D>(ps, a, b);
+    return neighbor_detail::image_before<D>(ps, a, b);
   });
 }
 
@@ -206,7 +195,7 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
   // hold 125 (rc/2)^3 = 15.6 rc^3 of candidates where 3^3 cells of rc hold
   // 27 rc^3 (about 290 against 500 at the plate's 2.64 spacings).
   constexpr long kReach = D == 3 ? 2 : 1;  // cells per cut-off
-  const Grid<D> g = make_grid<D>(ps.x, n, rc / static_cast<double>(kReach));
+  const Grid<D> g = make_grid<D>(ps.x, n, rc / static_cast<double>(kReach), n_own);
   std::int32_t* scratch = int_scratch(2 * n);
   const std::int32_t* cell_items = scratch + n;
   bin_resin_first<D>(g, ps, cell_start_, cell_resin_end_, scratch, scratch + n);
@@ -218,7 +207,15 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
   // comparator (sort_unpacked).
   const bool packed = std::all_of(ps.gid.begin(), ps.gid.begin() + static_cast<std::ptrdiff_t>(n),
                                   [](std::int64_t id) { return id >= 0 && id <= kMaxPackedGid; });
-  thread_local std::vector<std::uint64_t> keys;
+  // 2D: one sorted candidate list per cell, shared by the cell's particles
+  // (cell_candidates.hpp). In 3D a cell's 5^3 block holds about 290
+  // candidates for about 2 particles: sorting those would cost more than
+  // the per-particle sort of about 60 kept ones.
+  const bool shared = D == 2 && packed;
+  thread_local neighbor_detail::CellCandidates<D> cell_candidates;
+  long prepared = -1;  // the cell whose candidates cell_candidates holds
+  thread_local std::vector<std::uint64_t> keys, spare;
+  thread_local std::vector<std::int32_t> list;
   // The storage of the last build to start with (3D lists rarely fit 16
   // bits: no 16-bit array and its conversion at every build there).
   const bool wide_first = all_wide_;
@@ -242,50 +239,63 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
       lo[k] = std::max(0L, c[k] - kReach);
       hi[k] = std::min(g.n[k] - 1, c[k] + kReach);
     }
+    // Walls list resin only: in the shared form a wall's candidates
+    // include the walls, masked out by near().
+    const bool resin_only = wall_i && !shared;
     std::size_t candidates = 0;
     for (long cz = lo[2]; cz <= hi[2]; ++cz)
       for (long cy = lo[1]; cy <= hi[1]; ++cy) {
         const long row = (cz * g.n[1] + cy) * g.n[0];
         for (long cell = row + lo[0]; cell <= row + hi[0]; ++cell)
           candidates += static_cast<std::size_t>(
-              (wall_i ? cell_resin_end_[cell] : cell_start_[cell + 1]) - cell_start_[cell]);
+              (resin_only ? cell_resin_end_[cell] : cell_start_[cell + 1]) - cell_start_[cell]);
       }
     if (keys.size() < candidates) keys.resize(candidates);
-    // Every candidate is written and kept when inside the cut-off: no
-    // branch on the distance test, which is taken about a third of the time.
+    if (list.size() < candidates + 8) list.resize(candidates + 8);  // near() stores whole vectors
+    // Every candidate is written; per particle, kept when inside the
+    // cut-off: no branch on the distance test, taken about a third of the time.
     std::uint64_t* key = keys.data();
+    const long own_cell = (c[2] * g.n[1] + c[1]) * g.n[0] + c[0];
+    const bool gather = !shared || own_cell != prepared;
     std::size_t m = 0;
-    for (long cz = lo[2]; cz <= hi[2]; ++cz)
+    for (long cz = lo[2]; gather && cz <= hi[2]; ++cz)
       for (long cy = lo[1]; cy <= hi[1]; ++cy)
         for (long cx = lo[0]; cx <= hi[0]; ++cx) {
           const long cell = (cz * g.n[1] + cy) * g.n[0] + cx;
-          const std::int32_t resin_end = cell_resin_end_[cell];
-          const std::int32_t last = wall_i ? resin_end : cell_start_[cell + 1];
+          const std::int32_t last = resin_only ? cell_resin_end_[cell] : cell_start_[cell + 1];
           for (std::int32_t s = cell_start_[cell]; s < last; ++s) {
             const std::int32_t j = cell_items[s];
-            const bool near = (xi - ps.x[j]).squaredNorm() < rc2;
             key[m] = static_cast<std::uint64_t>(ps.gid[j]) << 32 | static_cast<std::uint32_t>(j);
-            m += static_cast<std::size_t>(near & (static_cast<std::size_t>(j) != i));
+            m += static_cast<std::size_t>(shared ||
+                                          ((neighbor_detail::distance2<D>(xi, ps.x[j]) < rc2) &
+                                           (static_cast<std::size_t>(j) != i)));
           }
         }
-    if (packed)
-      sort_packed<D>(ps, key, m);
-    else
-      sort_unpacked<D>(ps, key, m);
+    if (shared) {
+      if (gather) cell_candidates.prepare(ps, keys, m);
+      prepared = own_cell;
+      m = cell_candidates.near(xi, static_cast<std::int32_t>(i), wall_i, rc2, list.data());
+    } else {
+      if (packed)
+        neighbor_detail::sort_packed<D>(ps, key, m, spare);
+      else
+        sort_unpacked<D>(ps, key, m);
+      for (std::size_t k = 0; k < m; ++k) list[k] = static_cast<std::int32_t>(key[k] & 0xffffffffU);
+    }
     const auto own = static_cast<std::int32_t>(i);
-    const auto index = [](std::uint64_t k) { return static_cast<std::int32_t>(k & 0xffffffffU); };
-    const bool fits =
-        std::all_of(key, key + m, [&](std::uint64_t k) { return fits_16(index(k) - own); });
+    const std::int32_t* const nb = list.data();
+    const bool fits = std::all_of(nb, nb + m, [&](std::int32_t j) { return fits_16(j - own); });
     if (wide_first || !fits) {
       if (!wide_first) {  // its 16-bit slots only say "kept wide"
         narrow_.resize(narrow_.size() + m, kWideRow);
         wide_rows_.push_back(static_cast<std::uint32_t>(i));
         wide_starts_.push_back(static_cast<std::uint32_t>(wide_.size()));
       }
-      for (std::size_t k = 0; k < m; ++k) wide_.push_back(index(key[k]));
+      wide_.insert(wide_.end(), nb, nb + m);
     } else {
-      for (std::size_t k = 0; k < m; ++k)
-        narrow_.push_back(static_cast<std::int16_t>(index(key[k]) - own));
+      const std::size_t at = narrow_.size();
+      narrow_.resize(at + m);
+      for (std::size_t k = 0; k < m; ++k) narrow_[at + k] = static_cast<std::int16_t>(nb[k] - own);
     }
     if (!fits) far_pairs += m;
     pairs += m;

@@ -1,0 +1,177 @@
+#pragma once
+// The 2D list build's shared candidates (docs/performance.md, "The list
+// build"): every particle of one grid cell searches the same block of
+// cells, so the block's particles are gathered and put in list order
+// (global id, then position for periodic images) once per cell, and each
+// particle of the cell keeps those within its cut-off in that order: no
+// sort per particle. With AVX-512, eight candidates at a time.
+// Internal to src/neighbor/neighbor_list.cpp.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+#include <immintrin.h>
+#define SPHDEM_CANDIDATES_AVX512 1
+#endif
+
+#include "sphdem/particles/particles.hpp"
+
+namespace sphdem::neighbor_detail {
+
+// The squared distance every path of the build tests against the cut-off,
+// with its roundings spelled out (d0^2, then fused adds), so that the
+// vector and the scalar forms keep the same pairs.
+template <int D>
+double distance2(const Vec<D>& a, const Vec<D>& b) {
+  const double d0 = a[0] - b[0];
+  double d2 = d0 * d0;
+  for (int k = 1; k < D; ++k) {
+    const double d = a[k] - b[k];
+    d2 = std::fma(d, d, d2);
+  }
+  return d2;
+}
+
+// Two periodic images of one particle share a gid: position breaks the
+// tie, so the order never depends on where the images sit in memory.
+template <int D>
+bool image_before(const SphParticles<D>& ps, std::int32_t a, std::int32_t b) {
+  return std::lexicographical_compare(ps.x[a].begin(), ps.x[a].end(), ps.x[b].begin(),
+                                      ps.x[b].end());
+}
+
+// Sorts m distinct keys in place. Up to 64 keys with AVX-512: each key's
+// place is the count of keys below it (no branches); more, std::sort.
+inline void sort_keys(std::uint64_t* key, std::size_t m, std::vector<std::uint64_t>& spare) {
+#if defined(SPHDEM_CANDIDATES_AVX512)
+  if (m <= 64) {
+    __m512i r[8];
+    const std::size_t regs = (m + 7) / 8;
+    const __m512i top = _mm512_set1_epi64(-1);  // above every key (an index is below 2^31)
+    for (std::size_t q = 0; q < regs; ++q) {
+      const std::size_t left = m - 8 * q;
+      const auto valid = static_cast<__mmask8>(left >= 8 ? 0xff : (1u << left) - 1);
+      r[q] = _mm512_mask_loadu_epi64(top, valid, key + 8 * q);
+    }
+    spare.resize(std::max<std::size_t>(spare.size(), m));
+    for (std::size_t a = 0; a < m; ++a) {
+      const __m512i b = _mm512_set1_epi64(static_cast<long long>(key[a]));
+      unsigned below = 0;
+      for (std::size_t q = 0; q < regs; ++q)
+        below += static_cast<unsigned>(__builtin_popcount(_mm512_cmplt_epu64_mask(r[q], b)));
+      spare[below] = key[a];
+    }
+    std::copy(spare.begin(), spare.begin() + static_cast<std::ptrdiff_t>(m), key);
+    return;
+  }
+#else
+  (void)spare;
+#endif
+  std::sort(key, key + m);
+}
+
+// Keys gid << 32 | index in gid order, each run of one gid (periodic
+// images) by position.
+template <int D>
+void sort_packed(const SphParticles<D>& ps, std::uint64_t* key, std::size_t m,
+                 std::vector<std::uint64_t>& spare) {
+  sort_keys(key, m, spare);
+  for (std::size_t a = 0; a + 1 < m;) {
+    std::size_t b = a + 1;
+    while (b < m && key[b] >> 32 == key[a] >> 32) ++b;
+    if (b - a > 1) {
+      std::sort(key + a, key + b, [&](std::uint64_t p, std::uint64_t q) {
+        return image_before<D>(ps, static_cast<std::int32_t>(p & 0xffffffffU),
+                               static_cast<std::int32_t>(q & 0xffffffffU));
+      });
+    }
+    a = b;
+  }
+}
+
+// One cell's candidates in list order, structure of arrays, padded to a
+// multiple of 8 so that vector loads stay inside.
+template <int D>
+class CellCandidates {
+ public:
+  // The m keys (gid << 32 | index, every gid below 2^32) as candidates.
+  void prepare(const SphParticles<D>& ps, const std::vector<std::uint64_t>& keys, std::size_t m) {
+    key_.assign(keys.begin(), keys.begin() + static_cast<std::ptrdiff_t>(m));
+    sort_packed<D>(ps, key_.data(), m, spare_);
+    m_ = m;
+    const std::size_t padded = (m + 7) / 8 * 8;
+    for (int d = 0; d < D; ++d) x_[d].assign(padded, 0.0);
+    index_.assign(padded, 0);
+    wall_bits_.assign(padded / 8, 0);
+    for (std::size_t k = 0; k < m; ++k) {
+      const auto j = static_cast<std::int32_t>(key_[k] & 0xffffffffU);
+      index_[k] = j;
+      for (int d = 0; d < D; ++d) x_[d][k] = ps.x[j][d];
+      if (ps.kind[j] == Kind::Wall) wall_bits_[k / 8] |= static_cast<std::uint8_t>(1u << (k % 8));
+    }
+  }
+
+  // The candidates within sqrt(rc2) of xi (distance2), but `self` and, for
+  // a wall particle, the walls, in list order into out; returns their
+  // count. out has room for size() + 8 (whole vectors are stored).
+  std::size_t near(const Vec<D>& xi, std::int32_t self, bool wall_i, double rc2,
+                   std::int32_t* out) const {
+    std::size_t n = 0;
+    const std::int32_t* const index = index_.data();
+    const std::uint8_t* const walls = wall_bits_.data();
+#if defined(SPHDEM_CANDIDATES_AVX512)
+    const double* x[D];
+    __m512d xv[D];
+    for (int d = 0; d < D; ++d) {
+      x[d] = x_[d].data();
+      xv[d] = _mm512_set1_pd(xi[d]);
+    }
+    const __m512d limit = _mm512_set1_pd(rc2);
+    const __m256i own = _mm256_set1_epi32(self);
+    const auto no_walls = static_cast<std::uint8_t>(wall_i ? 0xff : 0);
+    for (std::size_t k = 0; k < m_; k += 8) {
+      const std::size_t left = m_ - k;
+      const auto valid = static_cast<__mmask8>(left >= 8 ? 0xff : (1u << left) - 1);
+      __m512d t = _mm512_sub_pd(xv[0], _mm512_loadu_pd(x[0] + k));
+      __m512d d2 = _mm512_mul_pd(t, t);
+      for (int d = 1; d < D; ++d) {
+        t = _mm512_sub_pd(xv[d], _mm512_loadu_pd(x[d] + k));
+        d2 = _mm512_fmadd_pd(t, t, d2);
+      }
+      const __m256i id = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + k));
+      __mmask8 keep = _mm512_mask_cmp_pd_mask(valid, d2, limit, _CMP_LT_OQ);
+      keep &= _mm256_cmpneq_epi32_mask(id, own);
+      keep &= static_cast<__mmask8>(~(walls[k / 8] & no_walls));
+      // Compressed in a register and stored whole: a compressing store to
+      // memory is microcoded and slow on some CPUs (AMD Zen 4).
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + n),
+                          _mm256_maskz_compress_epi32(keep, id));
+      n += static_cast<std::size_t>(__builtin_popcount(keep));
+    }
+#else
+    for (std::size_t k = 0; k < m_; ++k) {
+      Vec<D> xj;
+      for (int d = 0; d < D; ++d) xj[d] = x_[d][k];
+      const bool wall_k = (walls[k / 8] >> (k % 8)) & 1u;
+      if (index[k] != self && !(wall_i && wall_k) && distance2<D>(xi, xj) < rc2)
+        out[n++] = index[k];
+    }
+#endif
+    return n;
+  }
+
+  std::size_t size() const {
+    return m_;
+  }
+
+ private:
+  std::vector<std::uint64_t> key_, spare_;
+  std::vector<double> x_[D];
+  std::vector<std::int32_t> index_;
+  std::vector<std::uint8_t> wall_bits_;  // bit k % 8 of byte k / 8: candidate k is a wall
+  std::size_t m_ = 0;
+};
+
+}  // namespace sphdem::neighbor_detail
