@@ -15,3 +15,5 @@ set_tests_properties(test_lane_gather_np1 PROPERTIES SKIP_REGULAR_EXPRESSION "\\
 sphdem_test(test_shear_rate SOURCES test_shear_rate.cpp RANKS 1 LABELS unit)
 # Temperature: pairwise conduction by hand and its energy conservation.
 sphdem_test(test_heat SOURCES test_heat.cpp RANKS 1 LABELS unit)
+# The resin's kick-drift-kick passes: eight particles at a time bitwise one at a time, and by hand.
+sphdem_test(test_leapfrog SOURCES test_leapfrog.cpp RANKS 1 LABELS unit)
