@@ -8,13 +8,8 @@
 // the compiler's contraction choices.
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 
-#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__) && defined(__BMI2__)
-#include <immintrin.h>
-#define SPHDEM_LEAPFROG_AVX512 1
-#endif
-
+#include "sphdem/particles/particle_lanes.hpp"
 #include "sphdem/particles/particles.hpp"
 
 namespace sphdem {
@@ -79,42 +74,6 @@ void kick_one(const Arrays<D>& p, std::size_t i, double half, bool density) {
   }
 }
 
-#if defined(SPHDEM_LEAPFROG_AVX512)
-// The resin particles among i .. i + 7 (bit l: particle i + l), and those
-// of them frozen.
-struct Lanes {
-  __mmask8 fluid, still;
-};
-
-template <int D>
-Lanes lanes(const Arrays<D>& p, std::size_t i) {
-  static_assert(sizeof(Kind) == 1);
-  std::uint64_t kinds;
-  std::memcpy(&kinds, p.kind + i, sizeof kinds);
-  const __m128i k = _mm_cvtsi64_si128(static_cast<long long>(kinds));
-  const auto fluid = static_cast<__mmask8>(
-      _mm_cmpeq_epi8_mask(k, _mm_set1_epi8(static_cast<char>(Kind::Fluid))) & 0xff);
-  __mmask8 still = 0;
-  if (p.frozen != nullptr)
-    still = _mm256_test_epi32_mask(
-        _mm256_loadu_si256(reinterpret_cast<const __m256i*>(p.frozen + i)), _mm256_set1_epi32(-1));
-  return {fluid, static_cast<__mmask8>(still & fluid)};
-}
-
-// The mask of the D doubles of each particle of an 8-particle mask, for
-// the q-th of the D registers that hold those particles' vectors.
-template <int D>
-__mmask8 vector_mask(__mmask8 particles, int q) {
-  std::uint32_t spread = 0;
-  for (int d = 0; d < D; ++d) {
-    std::uint32_t pattern = 0;
-    for (int l = 0; l < 8; ++l) pattern |= 1u << (D * l + d);
-    spread |= _pdep_u32(particles, pattern);
-  }
-  return static_cast<__mmask8>(spread >> (8 * q));
-}
-#endif
-
 }  // namespace leapfrog_detail
 
 // The first kick of the velocity and the density and the drift of the
@@ -128,26 +87,27 @@ void kick_drift_resin(SphParticles<D>& ps, double dt) {
   const double half = 0.5 * dt;
   const Arrays<D> p = arrays(ps, false);
   std::size_t i = 0;
-#if defined(SPHDEM_LEAPFROG_AVX512)
+#if defined(SPHDEM_PARTICLE_LANES)
   const __m512d h = _mm512_set1_pd(half), t = _mm512_set1_pd(dt);
   for (; i + 8 <= n; i += 8) {
-    const Lanes l = lanes(p, i);
-    if (l.fluid == 0) continue;
+    const __mmask8 fluid = lanes::resin(p.kind, i);
+    if (fluid == 0) continue;
+    const __mmask8 frozen = p.frozen != nullptr ? lanes::set(p.frozen, i) & fluid : 0;
     for (int q = 0; q < D; ++q) {
       const std::size_t k = D * i + 8 * static_cast<std::size_t>(q);
-      const __mmask8 m = vector_mask<D>(l.fluid, q);
+      const __mmask8 m = lanes::vector_mask<D>(fluid, q);
       const __m512d a = _mm512_maskz_loadu_pd(m, p.a + k);
       const __m512d vh =
-          _mm512_maskz_mov_pd(static_cast<__mmask8>(~vector_mask<D>(l.still, q)),
+          _mm512_maskz_mov_pd(static_cast<__mmask8>(~lanes::vector_mask<D>(frozen, q)),
                               _mm512_fmadd_pd(h, a, _mm512_maskz_loadu_pd(m, p.v + k)));
       _mm512_mask_storeu_pd(p.v_half + k, m, vh);
       _mm512_mask_storeu_pd(p.x + k, m, _mm512_fmadd_pd(t, vh, _mm512_maskz_loadu_pd(m, p.x + k)));
       _mm512_mask_storeu_pd(p.v + k, m, _mm512_fmadd_pd(h, a, vh));
     }
-    const __m512d drho = _mm512_maskz_loadu_pd(l.fluid, p.drho + i);
-    const __m512d rh = _mm512_fmadd_pd(h, drho, _mm512_maskz_loadu_pd(l.fluid, p.rho + i));
-    _mm512_mask_storeu_pd(p.rho_half + i, l.fluid, rh);
-    _mm512_mask_storeu_pd(p.rho + i, l.fluid, _mm512_fmadd_pd(h, drho, rh));
+    const __m512d drho = _mm512_maskz_loadu_pd(fluid, p.drho + i);
+    const __m512d rh = _mm512_fmadd_pd(h, drho, _mm512_maskz_loadu_pd(fluid, p.rho + i));
+    _mm512_mask_storeu_pd(p.rho_half + i, fluid, rh);
+    _mm512_mask_storeu_pd(p.rho + i, fluid, _mm512_fmadd_pd(h, drho, rh));
   }
 #endif
   for (; i < n; ++i) kick_drift_one<D>(p, i, dt, half);
@@ -164,27 +124,28 @@ void kick_resin(SphParticles<D>& ps, double dt, bool density, bool thermal) {
   const double half = 0.5 * dt;
   const Arrays<D> p = arrays(ps, thermal);
   std::size_t i = 0;
-#if defined(SPHDEM_LEAPFROG_AVX512)
+#if defined(SPHDEM_PARTICLE_LANES)
   const __m512d h = _mm512_set1_pd(half);
   for (; i + 8 <= n; i += 8) {
-    const Lanes l = lanes(p, i);
-    if (l.fluid == 0) continue;
+    const __mmask8 fluid = lanes::resin(p.kind, i);
+    if (fluid == 0) continue;
+    const __mmask8 frozen = p.frozen != nullptr ? lanes::set(p.frozen, i) & fluid : 0;
     for (int q = 0; q < D; ++q) {
       const std::size_t k = D * i + 8 * static_cast<std::size_t>(q);
-      const __mmask8 m = vector_mask<D>(l.fluid, q), still = vector_mask<D>(l.still, q);
+      const __mmask8 m = lanes::vector_mask<D>(fluid, q), still = lanes::vector_mask<D>(frozen, q);
       if (still != 0) _mm512_mask_storeu_pd(p.a + k, still, _mm512_setzero_pd());
       const __m512d a = _mm512_maskz_loadu_pd(m, p.a + k);
       _mm512_mask_storeu_pd(p.v + k, m,
                             _mm512_fmadd_pd(h, a, _mm512_maskz_loadu_pd(m, p.v_half + k)));
     }
     if (density) {
-      const __m512d rh = _mm512_maskz_loadu_pd(l.fluid, p.rho_half + i);
-      _mm512_mask_storeu_pd(p.rho + i, l.fluid,
-                            _mm512_fmadd_pd(h, _mm512_maskz_loadu_pd(l.fluid, p.drho + i), rh));
+      const __m512d rh = _mm512_maskz_loadu_pd(fluid, p.rho_half + i);
+      _mm512_mask_storeu_pd(p.rho + i, fluid,
+                            _mm512_fmadd_pd(h, _mm512_maskz_loadu_pd(fluid, p.drho + i), rh));
       if (p.temperature != nullptr) {
-        const __m512d th = _mm512_maskz_loadu_pd(l.fluid, p.temp_half + i);
-        _mm512_mask_storeu_pd(p.temperature + i, l.fluid,
-                              _mm512_fmadd_pd(h, _mm512_maskz_loadu_pd(l.fluid, p.dtemp + i), th));
+        const __m512d th = _mm512_maskz_loadu_pd(fluid, p.temp_half + i);
+        _mm512_mask_storeu_pd(p.temperature + i, fluid,
+                              _mm512_fmadd_pd(h, _mm512_maskz_loadu_pd(fluid, p.dtemp + i), th));
       }
     }
   }
