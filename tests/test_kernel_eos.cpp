@@ -2,7 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <numbers>
+#include <random>
 
 #include "sphdem/sph/eos.hpp"
 #include "sphdem/sph/kernel.hpp"
@@ -114,6 +117,37 @@ TEST(TimeStep, PicksTheBindingLimit) {
   EXPECT_DOUBLE_EQ(ts.dt, 0.125 * 1e-6 * 1000 / 10);
   num.fixed_dt = 1e-7;
   EXPECT_EQ(choose_time_step(num, sp, 0, 0).limit, DtLimit::Fixed);
+}
+
+// The pressure pass (compute_fluid_pressure) takes eight particles at a time
+// with AVX-512: every resin particle gets the bits of TaitEos::pressure (or
+// the floor), its velocity as the one the viscous terms see; walls keep
+// theirs; the tail after the last group of eight too.
+TEST(TaitEos, PressurePassGivesEachParticleItsOwnPressure) {
+  const TaitEos eos(900.0, 50.0, 7.0);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (const double floor : {-std::numeric_limits<double>::infinity(), -100.0}) {
+    SphParticles<2> ps;
+    for (int i = 0; i < 203; ++i) {
+      const Kind kind = u(rng) < -0.5 ? Kind::Wall : Kind::Fluid;
+      ps.push_owned(i, kind, -1, 1.0, Vec<2>(u(rng), u(rng)), Vec<2>(u(rng), u(rng)),
+                    900.0 * (1.0 + 0.01 * u(rng)));
+      ps.p.back() = 12.5;
+      ps.vwall.back() = Vec<2>(7.0, 7.0);
+    }
+    compute_fluid_pressure<2>(eos, floor, ps);
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+      if (ps.kind[i] == Kind::Wall) {
+        EXPECT_EQ(ps.p[i], 12.5);
+        EXPECT_EQ(ps.vwall[i], Vec<2>(7.0, 7.0));
+        continue;
+      }
+      const double want = std::max(floor, eos.pressure(ps.rho[i]));
+      EXPECT_EQ(std::memcmp(&ps.p[i], &want, sizeof want), 0) << i;
+      EXPECT_EQ(ps.vwall[i], ps.v[i]) << i;
+    }
+  }
 }
 
 }  // namespace
