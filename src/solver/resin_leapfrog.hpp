@@ -8,6 +8,7 @@
 // the compiler's contraction choices.
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 #include "sphdem/particles/particle_lanes.hpp"
 #include "sphdem/particles/particles.hpp"
@@ -16,24 +17,36 @@ namespace sphdem {
 
 namespace leapfrog_detail {
 
-// The raw arrays of one pass; frozen, temperature, temp_half and dtemp may
-// be null (the field not held or not wanted).
+// One pass's step and particle count and the fields' raw arrays; frozen,
+// temperature, temp_half and dtemp may be null (the field not held or not
+// wanted).
 template <int D>
 struct Arrays {
+  double dt, half;
+  std::size_t n;
   const Kind* kind;
   const std::int32_t* frozen;
   double *x, *v, *v_half, *a, *rho, *rho_half, *drho;
   double *temperature, *temp_half, *dtemp;
 };
 
+// A vector field's doubles (null when it holds none).
 template <int D>
-Arrays<D> arrays(SphParticles<D>& ps, bool thermal) {
-  return {ps.kind.data(),
+double* doubles(std::vector<Vec<D>>& field) {
+  return field.empty() ? nullptr : field.data()->data();
+}
+
+template <int D>
+Arrays<D> arrays(SphParticles<D>& ps, double dt, bool thermal) {
+  return {dt,
+          0.5 * dt,
+          ps.n_owned,
+          ps.kind.data(),
           ps.frozen.empty() ? nullptr : ps.frozen.data(),
-          ps.x.data()->data(),
-          ps.v.data()->data(),
-          ps.v_half.data()->data(),
-          ps.a.data()->data(),
+          doubles<D>(ps.x),
+          doubles<D>(ps.v),
+          doubles<D>(ps.v_half),
+          doubles<D>(ps.a),
           ps.rho.data(),
           ps.rho_half.data(),
           ps.drho.data(),
@@ -44,7 +57,8 @@ Arrays<D> arrays(SphParticles<D>& ps, bool thermal) {
 
 // Particle i of the first kick and the drift.
 template <int D>
-void kick_drift_one(const Arrays<D>& p, std::size_t i, double dt, double half) {
+void kick_drift_one(const Arrays<D>& p, std::size_t i) {
+  const double dt = p.dt, half = p.half;
   if (p.kind[i] != Kind::Fluid) return;
   const bool still = p.frozen != nullptr && p.frozen[i] != 0;
   for (int d = 0; d < D; ++d) {
@@ -60,7 +74,8 @@ void kick_drift_one(const Arrays<D>& p, std::size_t i, double dt, double half) {
 
 // Particle i of the second kick.
 template <int D>
-void kick_one(const Arrays<D>& p, std::size_t i, double half, bool density) {
+void kick_one(const Arrays<D>& p, std::size_t i, bool density) {
+  const double half = p.half;
   if (p.kind[i] != Kind::Fluid) return;
   const bool still = p.frozen != nullptr && p.frozen[i] != 0;
   for (int d = 0; d < D; ++d) {
@@ -74,6 +89,22 @@ void kick_one(const Arrays<D>& p, std::size_t i, double half, bool density) {
   }
 }
 
+#if defined(SPHDEM_PARTICLE_LANES)
+// Calls group(i, resin, frozen) for each whole group of eight particles
+// i .. i + 7 that holds some resin (bit l: particle i + l is resin, is
+// frozen resin); returns the first particle after the last whole group.
+template <int D, class Group>
+std::size_t resin_groups(const Arrays<D>& p, Group&& group) {
+  std::size_t i = 0;
+  for (; i + 8 <= p.n; i += 8) {
+    const __mmask8 fluid = lanes::resin(p.kind, i);
+    if (fluid == 0) continue;
+    group(i, fluid, p.frozen != nullptr ? lanes::set(p.frozen, i) & fluid : __mmask8{0});
+  }
+  return i;
+}
+#endif
+
 }  // namespace leapfrog_detail
 
 // The first kick of the velocity and the density and the drift of the
@@ -82,17 +113,11 @@ void kick_one(const Arrays<D>& p, std::size_t i, double half, bool density) {
 template <int D>
 void kick_drift_resin(SphParticles<D>& ps, double dt) {
   using namespace leapfrog_detail;
-  const std::size_t n = ps.n_owned;
-  if (n == 0) return;
-  const double half = 0.5 * dt;
-  const Arrays<D> p = arrays(ps, false);
-  std::size_t i = 0;
+  const Arrays<D> p = arrays(ps, dt, false);
+  std::size_t at = 0;  // the first particle left to the one-particle form
 #if defined(SPHDEM_PARTICLE_LANES)
-  const __m512d h = _mm512_set1_pd(half), t = _mm512_set1_pd(dt);
-  for (; i + 8 <= n; i += 8) {
-    const __mmask8 fluid = lanes::resin(p.kind, i);
-    if (fluid == 0) continue;
-    const __mmask8 frozen = p.frozen != nullptr ? lanes::set(p.frozen, i) & fluid : 0;
+  const __m512d h = _mm512_set1_pd(p.half), t = _mm512_set1_pd(dt);
+  at = resin_groups<D>(p, [&](std::size_t i, __mmask8 fluid, __mmask8 frozen) {
     for (int q = 0; q < D; ++q) {
       const std::size_t k = D * i + 8 * static_cast<std::size_t>(q);
       const __mmask8 m = lanes::vector_mask<D>(fluid, q);
@@ -108,9 +133,9 @@ void kick_drift_resin(SphParticles<D>& ps, double dt) {
     const __m512d rh = _mm512_fmadd_pd(h, drho, _mm512_maskz_loadu_pd(fluid, p.rho + i));
     _mm512_mask_storeu_pd(p.rho_half + i, fluid, rh);
     _mm512_mask_storeu_pd(p.rho + i, fluid, _mm512_fmadd_pd(h, drho, rh));
-  }
+  });
 #endif
-  for (; i < n; ++i) kick_drift_one<D>(p, i, dt, half);
+  for (; at < p.n; ++at) kick_drift_one<D>(p, at);
 }
 
 // The second kick of the owned resin particles' velocities (a frozen
@@ -119,17 +144,11 @@ void kick_drift_resin(SphParticles<D>& ps, double dt) {
 template <int D>
 void kick_resin(SphParticles<D>& ps, double dt, bool density, bool thermal) {
   using namespace leapfrog_detail;
-  const std::size_t n = ps.n_owned;
-  if (n == 0) return;
-  const double half = 0.5 * dt;
-  const Arrays<D> p = arrays(ps, thermal);
-  std::size_t i = 0;
+  const Arrays<D> p = arrays(ps, dt, thermal);
+  std::size_t at = 0;  // the first particle left to the one-particle form
 #if defined(SPHDEM_PARTICLE_LANES)
-  const __m512d h = _mm512_set1_pd(half);
-  for (; i + 8 <= n; i += 8) {
-    const __mmask8 fluid = lanes::resin(p.kind, i);
-    if (fluid == 0) continue;
-    const __mmask8 frozen = p.frozen != nullptr ? lanes::set(p.frozen, i) & fluid : 0;
+  const __m512d h = _mm512_set1_pd(p.half);
+  at = resin_groups<D>(p, [&](std::size_t i, __mmask8 fluid, __mmask8 frozen) {
     for (int q = 0; q < D; ++q) {
       const std::size_t k = D * i + 8 * static_cast<std::size_t>(q);
       const __mmask8 m = lanes::vector_mask<D>(fluid, q), still = lanes::vector_mask<D>(frozen, q);
@@ -148,9 +167,9 @@ void kick_resin(SphParticles<D>& ps, double dt, bool density, bool thermal) {
                               _mm512_fmadd_pd(h, _mm512_maskz_loadu_pd(fluid, p.dtemp + i), th));
       }
     }
-  }
+  });
 #endif
-  for (; i < n; ++i) kick_one<D>(p, i, half, density);
+  for (; at < p.n; ++at) kick_one<D>(p, at, density);
 }
 
 }  // namespace sphdem
