@@ -112,8 +112,7 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
 }
 
 // With AVX-512 and the fast Tait path (gamma = 7), eight particles at a
-// time with TaitEos::pressure's operations in its order (no sum of
-// products to contract: the same bits).
+// time (tait_pressure7: the bits of TaitEos::pressure).
 template <int D>
 void compute_fluid_pressure(const TaitEos& eos, double floor, SphParticles<D>& ps) {
   const std::size_t n = ps.size();
@@ -125,15 +124,11 @@ void compute_fluid_pressure(const TaitEos& eos, double floor, SphParticles<D>& p
     double* const p = ps.p.data();
     const double* const v = ps.v.data()->data();
     double* const vwall = ps.vwall.data()->data();
-    const __m512d rho0 = _mm512_set1_pd(eos.rho0()), b = _mm512_set1_pd(eos.b());
-    const __m512d one = _mm512_set1_pd(1.0), lowest = _mm512_set1_pd(floor);
+    const __m512d lowest = _mm512_set1_pd(floor);
     for (; i + 8 <= n; i += 8) {
       const __mmask8 fluid = lanes::resin(kind, i);
       if (fluid == 0) continue;
-      const __m512d s = _mm512_div_pd(_mm512_maskz_loadu_pd(fluid, rho + i), rho0);
-      const __m512d s2 = _mm512_mul_pd(s, s);
-      const __m512d s7 = _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(s2, s2), s2), s);
-      __m512d pi = _mm512_mul_pd(b, _mm512_sub_pd(s7, one));
+      __m512d pi = tait_pressure7(eos, _mm512_maskz_loadu_pd(fluid, rho + i));
       pi = _mm512_mask_mov_pd(pi, _mm512_cmp_pd_mask(pi, lowest, _CMP_LT_OQ), lowest);
       _mm512_mask_storeu_pd(p + i, fluid, pi);
       for (int q = 0; q < D; ++q) {

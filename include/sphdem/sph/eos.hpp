@@ -6,6 +6,10 @@
 // bulk. gamma = 7 takes a fast path.
 #include <cmath>
 
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
 namespace sphdem {
 
 class TaitEos {
@@ -37,5 +41,16 @@ class TaitEos {
  private:
   double rho0_, c0_, gamma_, b_;
 };
+
+#if defined(__AVX512F__)
+// TaitEos::pressure of eight densities on its gamma = 7 path (the caller
+// checks gamma()), with its operations in its order: each lane has its bits.
+inline __m512d tait_pressure7(const TaitEos& eos, __m512d rho) {
+  const __m512d s = _mm512_div_pd(rho, _mm512_set1_pd(eos.rho0()));
+  const __m512d s2 = _mm512_mul_pd(s, s);
+  const __m512d s7 = _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(s2, s2), s2), s);
+  return _mm512_mul_pd(_mm512_set1_pd(eos.b()), _mm512_sub_pd(s7, _mm512_set1_pd(1.0)));
+}
+#endif
 
 }  // namespace sphdem
