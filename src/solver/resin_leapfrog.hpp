@@ -72,6 +72,13 @@ void kick_drift_one(const Arrays<D>& p, std::size_t i) {
   p.rho[i] = std::fma(half, p.drho[i], p.rho_half[i]);
 }
 
+// Particle i's density (and temperature) kick.
+template <int D>
+void kick_density_one(const Arrays<D>& p, std::size_t i) {
+  p.rho[i] = std::fma(p.half, p.drho[i], p.rho_half[i]);
+  if (p.temperature != nullptr) p.temperature[i] = std::fma(p.half, p.dtemp[i], p.temp_half[i]);
+}
+
 // Particle i of the second kick.
 template <int D>
 void kick_one(const Arrays<D>& p, std::size_t i, bool density) {
@@ -83,10 +90,7 @@ void kick_one(const Arrays<D>& p, std::size_t i, bool density) {
     if (still) p.a[k] = 0.0;
     p.v[k] = std::fma(half, p.a[k], p.v_half[k]);
   }
-  if (density) {
-    p.rho[i] = std::fma(half, p.drho[i], p.rho_half[i]);
-    if (p.temperature != nullptr) p.temperature[i] = std::fma(half, p.dtemp[i], p.temp_half[i]);
-  }
+  if (density) kick_density_one<D>(p, i);
 }
 
 #if defined(SPHDEM_PARTICLE_LANES)
@@ -170,6 +174,15 @@ void kick_resin(SphParticles<D>& ps, double dt, bool density, bool thermal) {
   });
 #endif
   for (; at < p.n; ++at) kick_one<D>(p, at, density);
+}
+
+// The density (and, with `thermal`, temperature) kick alone, after an
+// implicit viscous solve (ResinModule::correct).
+template <int D>
+void kick_density_resin(SphParticles<D>& ps, double dt, bool thermal) {
+  const leapfrog_detail::Arrays<D> p = leapfrog_detail::arrays(ps, dt, thermal);
+  for (std::size_t i = 0; i < p.n; ++i)
+    if (p.kind[i] == Kind::Fluid) leapfrog_detail::kick_density_one<D>(p, i);
 }
 
 }  // namespace sphdem

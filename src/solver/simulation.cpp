@@ -12,6 +12,7 @@
 #include "distributed_fill.hpp"
 #include "front_events_output.hpp"
 #include "injection_pressure.hpp"
+#include "resin_leapfrog.hpp"
 #include "snapshot_fields.hpp"
 #include "sphdem/config/config.hpp"
 #include "sphdem/core/errors.hpp"
@@ -289,17 +290,12 @@ void ResinModule<D>::predict(double dt) {
     disp[k] =
         walls_[k].moves ? Vec<D>(dt * to_vec<D>(walls_[k].velocity(time + half))) : Vec<D>::Zero();
   }
-  // One pass over the particles, resin and walls (each particle's update
-  // reads only its own fields).
+  // Each particle's update reads only its own fields: the resin in one pass
+  // (resin_leapfrog.hpp, eight at a time), the moving walls in another.
+  kick_drift_resin<D>(ps_, dt);
+  if (walls_.empty()) return;
   for (std::size_t i = 0; i < ps_.n_owned; ++i) {
-    if (ps_.kind[i] == Kind::Fluid) {
-      ps_.v_half[i] = ps_.v[i] + half * ps_.a[i];
-      ps_.rho_half[i] = ps_.rho[i] + half * ps_.drho[i];
-      if (ps_.is_frozen(i)) ps_.v_half[i].setZero();
-      ps_.x[i] += dt * ps_.v_half[i];
-      ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
-      ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
-    } else if (ps_.kind[i] == Kind::Wall && ps_.wall[i] >= 0) {
+    if (ps_.kind[i] == Kind::Wall && ps_.wall[i] >= 0) {
       ps_.x[i] += disp[static_cast<std::size_t>(ps_.wall[i])];
     }
   }
@@ -316,26 +312,15 @@ bool ResinModule<D>::moved() {
 // The second kick, with the rates at the end of the step.
 template <int D>
 void ResinModule<D>::correct(double dt) {
-  const double half = 0.5 * dt;
-  const auto density_kick = [&](std::size_t i) {
-    ps_.rho[i] = ps_.rho_half[i] + half * ps_.drho[i];
-    if (sp_.thermal) ps_.temperature[i] = ps_.temp_half[i] + half * ps_.dtemp[i];
-  };
-  // Without a solve between them, the two kicks in one pass.
+  // Without a solve between them, the two kicks in one pass
+  // (resin_leapfrog.hpp, eight at a time).
   const bool solve = sp_.implicit_viscosity;
-  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
-    if (ps_.kind[i] == Kind::Fluid) {
-      if (ps_.is_frozen(i)) ps_.a[i].setZero();
-      ps_.v[i] = ps_.v_half[i] + half * ps_.a[i];
-      if (!solve) density_kick(i);
-    }
-  }
+  kick_resin<D>(ps_, dt, /*density=*/!solve, sp_.thermal);
   // Before the density kick: the solve reads the densities of the rates,
   // which the ghosts hold too (rank-count independence).
   if (solve) {
     solve_viscosity(dt);
-    for (std::size_t i = 0; i < ps_.n_owned; ++i)
-      if (ps_.kind[i] == Kind::Fluid) density_kick(i);
+    kick_density_resin<D>(ps_, dt, sp_.thermal);
   }
   // The density kick read the velocities before the solve; the particles
   // drift with the solve's (docs/physics.md "Implicit viscosity", the density).
