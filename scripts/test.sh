@@ -9,6 +9,15 @@ cd "$(dirname "$0")/.."
 preset=test
 [[ "${1:-}" == "--sanitize" ]] && preset=sanitize
 scripts/install-deps.sh
+# A fresh test build takes about 2 GB of disk (the sanitize one more): say so
+# before the build rather than fail in the linker halfway through it.
+if [[ ! -d "build/$preset" ]]; then
+  free_mb=$(df -Pm . | awk 'NR == 2 { print $4 }')
+  if (( free_mb < 3072 )); then
+    echo "scripts/test.sh: only ${free_mb} MB free on the disk of $(pwd); the $preset build needs about 3 GB" >&2
+    exit 1
+  fi
+fi
 if [[ $(id -u) -eq 0 ]]; then
   export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
