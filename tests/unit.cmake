@@ -17,3 +17,5 @@ sphdem_test(test_shear_rate SOURCES test_shear_rate.cpp RANKS 1 LABELS unit)
 sphdem_test(test_heat SOURCES test_heat.cpp RANKS 1 LABELS unit)
 # The resin's kick-drift-kick passes: eight particles at a time bitwise one at a time, and by hand.
 sphdem_test(test_leapfrog SOURCES test_leapfrog.cpp RANKS 1 LABELS unit)
+# The passes eight (or 64) particles at a time: the bits of the one-particle forms, tails included.
+sphdem_test(test_particle_lanes SOURCES test_particle_lanes.cpp RANKS 1 LABELS unit)

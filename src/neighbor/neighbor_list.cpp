@@ -11,6 +11,7 @@
 #include "sphdem/core/errors.hpp"
 #include "sphdem/core/scratch.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
+#include "sphdem/particles/particle_lanes.hpp"
 
 namespace sphdem {
 
@@ -375,23 +376,54 @@ void NeighborList<D>::store_mixed() {
 // A move under the build's quick limit is under every particle's own
 // limit: only the others compute theirs (the verdict is the per-particle
 // one either way).
+// The squared move of every particle is fma(dz, dz, fma(dy, dy, dx dx)) in
+// both forms (the one GCC gave the scalar loop), so the verdict does not
+// depend on the form.
 template <int D>
 bool NeighborList<D>::needs_rebuild(const SphParticles<D>& ps) const {
   if (x_at_build_.size() != ps.n_owned) return true;
   const double half_skin = 0.5 * skin_;
+  const auto beyond_own_limit = [&](std::size_t i, double d2) {
+    double size = 0.0;
+    for (int k = 0; k < D; ++k) size += std::abs(static_cast<double>(x_at_build_[i][k]));
+    const double limit = half_skin - (kRoundingRelative * size + D * kRoundingTiny);
+    return limit <= 0.0 || d2 > limit * limit;
+  };
+#if defined(SPHDEM_PARTICLE_LANES)
+  // Eight particles at a time for the quick limit; the few beyond it one at a time.
+  const __m512d quick = _mm512_set1_pd(quick_limit2_);
+  for (std::size_t i = 0; i < ps.n_owned; i += 8) {
+    const __mmask8 valid = lanes::first(ps.n_owned - i);
+    __m512d now[D], then[D];
+    lanes::load_vectors<D>(ps.x.data()->data(), i, valid, now);
+    lanes::load_vectors<D>(x_at_build_.data()->data(), i, valid, then);
+    __m512d d2 = _mm512_setzero_pd();
+    for (int k = 0; k < D; ++k) {
+      const __m512d d = _mm512_sub_pd(lanes::component<D>(now, k), lanes::component<D>(then, k));
+      d2 = k == 0 ? lanes::mul(d, d) : _mm512_fmadd_pd(d, d, d2);
+    }
+    __mmask8 far = _mm512_mask_cmp_pd_mask(valid, d2, quick, _CMP_NLE_UQ);
+    if (far == 0) continue;
+    alignas(64) double each[8];
+    _mm512_store_pd(each, d2);
+    for (; far != 0; far &= static_cast<__mmask8>(far - 1)) {
+      const int l = __builtin_ctz(far);
+      if (beyond_own_limit(i + static_cast<std::size_t>(l), each[l])) return true;
+    }
+  }
+  return false;
+#else
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     double d2 = 0.0;
     for (int k = 0; k < D; ++k) {
       const double d = ps.x[i][k] - static_cast<double>(x_at_build_[i][k]);
-      d2 += d * d;
+      d2 = std::fma(d, d, d2);
     }
     if (d2 <= quick_limit2_) continue;
-    double size = 0.0;
-    for (int k = 0; k < D; ++k) size += std::abs(static_cast<double>(x_at_build_[i][k]));
-    const double limit = half_skin - (kRoundingRelative * size + D * kRoundingTiny);
-    if (limit <= 0.0 || d2 > limit * limit) return true;
+    if (beyond_own_limit(i, d2)) return true;
   }
   return false;
+#endif
 }
 
 template <int D>

@@ -86,11 +86,10 @@ template <int D>
 void ResinModule<D>::set_wall_velocities(double t) {
   std::vector<Vec<D>> v(walls_.size());
   for (std::size_t k = 0; k < walls_.size(); ++k) v[k] = to_vec<D>(walls_[k].velocity(t));
-  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
-    if (ps_.kind[i] != Kind::Wall) continue;
+  lanes::for_each_of_kind(ps_.kind.data(), ps_.n_owned, Kind::Wall, [&](std::size_t i) {
     const std::int32_t k = ps_.wall[i];
     ps_.v[i] = k >= 0 ? v[static_cast<std::size_t>(k)] : Vec<D>::Zero();
-  }
+  });
 }
 
 // Migration, halo and lists are rebuilt together: the halo plan and the

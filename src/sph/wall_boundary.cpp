@@ -56,8 +56,7 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
   Vec<D> g;
   for (int k = 0; k < D; ++k) g[k] = sp.body_force[k];
   std::vector<WallFaceSample> face;
-  for (std::size_t w = 0; w < ps.n_owned; ++w) {
-    if (ps.kind[w] != Kind::Wall) continue;
+  lanes::for_each_of_kind(ps.kind.data(), ps.n_owned, Kind::Wall, [&](std::size_t w) {
     const Vec<D> xw = ps.x[w];
     double sum_w = 0.0, sum_p = 0.0, sum_t = 0.0;
     Vec<D> sum_rho_r = Vec<D>::Zero(), sum_v = Vec<D>::Zero();
@@ -88,7 +87,7 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
       ps.p[w] = 0.0;
       ps.rho[w] = eos.rho0();
       ps.vwall[w] = ps.v[w];
-      continue;
+      return;
     }
     const Vec<D> a_w = listed ? walls[static_cast<std::size_t>(k)].accel : Vec<D>::Zero();
     // A wall pulls the resin at most down to absolute zero, gauge -Pa: the
@@ -107,7 +106,7 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
         ps.wall_to_surface.empty() ? Vec<D>::Zero() : Vec<D>(ps.wall_to_surface[w]);
     ps.vwall[w] = dummy_velocity<D>(law, ps.v[w], sum_v / sum_w, to_surface);
     if (listed) face.push_back({ps.gid[w], k, p});
-  }
+  });
   return face;
 }
 

@@ -44,6 +44,105 @@ __mmask8 vector_mask(__mmask8 particles, int q) {
   }
   return static_cast<__mmask8>(spread >> (8 * q));
 }
+
+// The first `count` bits (count <= 8): the particles of a group that exist.
+inline __mmask8 first(std::size_t count) {
+  return count >= 8 ? __mmask8{0xff} : static_cast<__mmask8>((1u << count) - 1u);
+}
+
+// Bit l: particle i + l is one of `valid` and of kind k (reads no kind
+// outside `valid`).
+inline __mmask8 of_kind(const Kind* kind, std::size_t i, __mmask8 valid, Kind k) {
+  const __m128i kinds = _mm_maskz_loadu_epi8(valid, kind + i);
+  return _mm_mask_cmpeq_epi8_mask(valid, kinds, _mm_set1_epi8(static_cast<char>(k)));
+}
+
+// Bit l: particle i + l is one of `valid` and flag[i + l] is not 0.
+inline __mmask8 set(const std::int32_t* flag, std::size_t i, __mmask8 valid) {
+  return _mm256_mask_test_epi32_mask(valid, _mm256_maskz_loadu_epi32(valid, flag + i),
+                                     _mm256_set1_epi32(-1));
+}
+
+// GCC 12's unmasked forms of some AVX-512 operations start from an undefined
+// register and warn (an error with -Werror); these are the same operations
+// through their zero-masked forms with every lane.
+// max(a, b): lane l is b[l] unless a[l] > b[l] (a NaN in a keeps b).
+inline __m512d max(__m512d a, __m512d b) {
+  return _mm512_maskz_max_pd(0xff, a, b);
+}
+
+// a b and a + b, each rounded on its own: GCC treats _mm512_mul_pd and
+// _mm512_add_pd as plain arithmetic and fuses a product into a sum
+// (-ffp-contract=fast); it leaves the forms with a rounding mode alone.
+inline __m512d mul(__m512d a, __m512d b) {
+  return _mm512_maskz_mul_round_pd(0xff, a, b, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+}
+inline __m512d add(__m512d a, __m512d b) {
+  return _mm512_maskz_add_round_pd(0xff, a, b, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+}
+
+// The largest of the eight lanes (none NaN).
+inline double largest(__m512d v) {
+  v = max(v, _mm512_maskz_shuffle_f64x2(0xff, v, v, 0x4e));  // the other half
+  v = max(v, _mm512_maskz_shuffle_f64x2(0xff, v, v, 0xb1));  // the other quarter
+  v = max(v, _mm512_maskz_permute_pd(0xff, v, 0x55));        // the other lane
+  return _mm512_cvtsd_f64(v);
+}
+
+// The D registers of eight particles' D-vectors (particle i + l's doubles
+// at p[D (i + l)] ..), the particles not in `valid` read as 0.
+template <int D>
+void load_vectors(const double* p, std::size_t i, __mmask8 valid, __m512d (&r)[D]) {
+  for (int q = 0; q < D; ++q)
+    r[q] = _mm512_maskz_loadu_pd(vector_mask<D>(valid, q), p + D * i + 8 * q);
+}
+
+// The same from floats, each widened to a double exactly.
+template <int D>
+void load_vectors(const float* p, std::size_t i, __mmask8 valid, __m512d (&r)[D]) {
+  for (int q = 0; q < D; ++q) {
+    const __mmask8 m = vector_mask<D>(valid, q);
+    r[q] = _mm512_maskz_cvtps_pd(m, _mm256_maskz_loadu_ps(m, p + D * i + 8 * q));
+  }
+}
+
+// Component d of the eight vectors held as load_vectors gives them: lane l
+// is particle l's component d (a permutation: no arithmetic).
+template <int D>
+__m512d component(const __m512d (&r)[D], int d) {
+  static_assert(D == 2 || D == 3);
+  alignas(64) long long low[8], high[8];
+  __mmask8 from_third = 0;
+  for (int l = 0; l < 8; ++l) {
+    const int at = D * l + d;  // its place among the 8 D doubles
+    low[l] = at < 16 ? at : 0;
+    high[l] = at < 16 ? 0 : at - 16;
+    if (at >= 16) from_third = static_cast<__mmask8>(from_third | (1u << l));
+  }
+  __m512d c = _mm512_permutex2var_pd(r[0], _mm512_load_si512(low), r[1]);
+  if constexpr (D == 3)
+    c = _mm512_mask_permutexvar_pd(c, from_third, _mm512_load_si512(high), r[2]);
+  return c;
+}
 #endif
+
+// Calls f(i) for each i < n with kind[i] == k, in increasing order (with
+// AVX-512, 64 kinds compared at a time: the passes that touch only the walls
+// skip the resin quickly).
+template <class F>
+void for_each_of_kind(const Kind* kind, std::size_t n, Kind k, F&& f) {
+#if defined(SPHDEM_PARTICLE_LANES)
+  const __m512i wanted = _mm512_set1_epi8(static_cast<char>(k));
+  for (std::size_t i = 0; i < n; i += 64) {
+    const __mmask64 valid = n - i >= 64 ? ~__mmask64{0} : (__mmask64{1} << (n - i)) - 1;
+    __mmask64 m =
+        _mm512_mask_cmpeq_epi8_mask(valid, _mm512_maskz_loadu_epi8(valid, kind + i), wanted);
+    for (; m != 0; m &= m - 1) f(i + static_cast<std::size_t>(__builtin_ctzll(m)));
+  }
+#else
+  for (std::size_t i = 0; i < n; ++i)
+    if (kind[i] == k) f(i);
+#endif
+}
 
 }  // namespace sphdem::lanes
