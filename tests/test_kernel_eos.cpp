@@ -99,6 +99,23 @@ TEST(TaitEos, RoundTripAndHandValues) {
   EXPECT_GT(eos.density(-10 * eos.b()), 0.0) << "a vacuum maps to a positive density";
 }
 
+// The inverse at zero pressure skips pow: the same bits as the formula
+// (pow(1, y) is exactly 1), for +0 and -0 and both gamma paths; elsewhere
+// the formula itself.
+TEST(TaitEos, DensityAtZeroPressureIsTheFormulasBits) {
+  for (const double gamma : {7.0, 3.0}) {
+    const TaitEos eos(912.5, 37.0, gamma);
+    const auto formula = [&](double p) {
+      return eos.rho0() * std::pow(p / eos.b() + 1.0, 1.0 / eos.gamma());
+    };
+    EXPECT_EQ(eos.density(0.0), formula(0.0));
+    EXPECT_EQ(eos.density(-0.0), formula(-0.0));
+    EXPECT_EQ(eos.density(0.0), 912.5);
+    for (const double p : {1e-300, -1e-300, 3.7, -1234.5, 2e5})
+      EXPECT_EQ(eos.density(p), formula(p)) << p;
+  }
+}
+
 TEST(TimeStep, PicksTheBindingLimit) {
   Numerics num;
   SphParams sp;

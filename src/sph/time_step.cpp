@@ -118,11 +118,38 @@ double thermal_time_step(const SphParams& sp) {
   return sp.thermal_factor * sp.h * sp.h * sp.rho0 * sp.heat_capacity / sp.conductivity;
 }
 
+namespace {
+
+// |u|^2 as x x + y y with each product rounded, then fma(z, z, .) in 3D: the
+// operations of local_extremes' vector form, and those GCC gave this loop's
+// Eigen squaredNorm at -O3 with AVX-512 before there was a vector form. Its
+// own flag, so no build fuses a product into the sum (-ffp-contract=fast).
+template <int D>
+__attribute__((optimize("fp-contract=off"))) LocalExtremes local_extremes_one_at_a_time(
+    const SphParticles<D>& ps) {
+  double v2 = 0.0, a2 = 0.0, mu = 0.0;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    // No helper function or lambda: it would be compiled with the default flag.
+    const double* const v = ps.v[i].data();
+    double vi = v[0] * v[0] + v[1] * v[1];
+    if constexpr (D == 3) vi = std::fma(v[2], v[2], vi);
+    v2 = vi > v2 ? vi : v2;  // std::max(v2, vi): a NaN keeps v2
+    if (ps.kind[i] != Kind::Fluid || (!ps.frozen.empty() && ps.frozen[i] != 0)) continue;
+    const double* const a = ps.a[i].data();
+    double ai = a[0] * a[0] + a[1] * a[1];
+    if constexpr (D == 3) ai = std::fma(a[2], a[2], ai);
+    a2 = ai > a2 ? ai : a2;
+    if (!ps.viscosity.empty()) mu = ps.viscosity[i] > mu ? ps.viscosity[i] : mu;
+  }
+  return {v2, a2, mu};
+}
+
+}  // namespace
+
 // A frozen particle (below the no-flow temperature) holds its position: its
 // acceleration does not move it, so it does not limit the step either.
-// With AVX-512, eight particles at a time with the operations GCC gave the
-// one-particle form (Eigen's squaredNorm: x x + y y, plus fma(z, z, .) in
-// 3D), so the maxima have the bits of that form.
+// With AVX-512, eight particles at a time with the one-particle form's
+// operations: the maxima have its bits.
 template <int D>
 LocalExtremes local_extremes(const SphParticles<D>& ps) {
 #if defined(SPHDEM_PARTICLE_LANES)
@@ -152,18 +179,11 @@ LocalExtremes local_extremes(const SphParticles<D>& ps) {
       mu = _mm512_mask_max_pd(mu, moving, _mm512_maskz_loadu_pd(moving, ps.viscosity.data() + i),
                               mu);
   }
-  return {std::sqrt(lanes::largest(v2)), std::sqrt(lanes::largest(a2)), lanes::largest(mu)};
+  const LocalExtremes squares{lanes::largest(v2), lanes::largest(a2), lanes::largest(mu)};
 #else
-  double v2 = 0.0, a2 = 0.0, mu = 0.0;
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    v2 = std::max(v2, ps.v[i].squaredNorm());
-    if (ps.kind[i] == Kind::Fluid && !ps.is_frozen(i)) {
-      a2 = std::max(a2, ps.a[i].squaredNorm());
-      if (!ps.viscosity.empty()) mu = std::max(mu, ps.viscosity[i]);
-    }
-  }
-  return {std::sqrt(v2), std::sqrt(a2), mu};
+  const LocalExtremes squares = local_extremes_one_at_a_time<D>(ps);
 #endif
+  return {std::sqrt(squares.v_max), std::sqrt(squares.a_max), squares.mu_max};
 }
 
 bool any_slip_wall(const Case& c) {

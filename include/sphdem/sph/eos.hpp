@@ -28,7 +28,10 @@ class TaitEos {
 
   // Inverse: the density at which the pressure is p. Pressures below -B
   // map to a tiny positive density instead of NaN.
+  // At zero pressure (a wall held at its floor: often most of them) the
+  // answer is rho0 without pow: pow(1, y) is exactly 1.
   double density(double p) const {
+    if (p == 0.0) return rho0_;
     const double base = p / b_ + 1.0;
     return rho0_ * std::pow(base > 1e-12 ? base : 1e-12, 1.0 / gamma_);
   }
