@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 preset=test
 [[ "${1:-}" == "--sanitize" ]] && preset=sanitize
 scripts/install-deps.sh
-# A fresh test build takes about 2 GB of disk (the sanitize one more): say so
+# A fresh test build takes about 1 GB of disk (the sanitize one more): say so
 # before the build rather than fail in the linker halfway through it.
 if [[ ! -d "build/$preset" ]]; then
   free_mb=$(df -Pm . | awk 'NR == 2 { print $4 }')
