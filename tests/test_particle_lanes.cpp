@@ -55,7 +55,7 @@ template <int D>
 double squared_norm(const Vec<D>& v) {
   volatile double xx = v[0] * v[0], yy = v[1] * v[1];
   const double n2 = xx + yy;
-  if constexpr (D == 3) return std::fma(v[2], v[2], n2);
+  if constexpr (D == 3) return lanes::mul_add(v[2], v[2], n2);
   return n2;
 }
 

@@ -417,7 +417,7 @@ bool NeighborList<D>::needs_rebuild(const SphParticles<D>& ps) const {
     double d2 = 0.0;
     for (int k = 0; k < D; ++k) {
       const double d = ps.x[i][k] - static_cast<double>(x_at_build_[i][k]);
-      d2 = std::fma(d, d, d2);
+      d2 = lanes::mul_add(d, d, d2);
     }
     if (d2 <= quick_limit2_) continue;
     if (beyond_own_limit(i, d2)) return true;

@@ -4,7 +4,8 @@
 // AVX-512 (docs/performance.md, "The passes over particles"): GCC does not
 // vectorize them itself (one-byte kinds beside D-double vectors). Each
 // particle's update reads only its own fields; every product that feeds a
-// sum is fused, in both forms, so the bits do not depend on the form or on
+// sum is fused, in both forms (lanes::mul_add: where the build has FMA, as
+// every AVX-512 build does), so the bits do not depend on the form or on
 // the compiler's contraction choices.
 #include <cmath>
 #include <cstdint>
@@ -63,20 +64,21 @@ void kick_drift_one(const Arrays<D>& p, std::size_t i) {
   const bool still = p.frozen != nullptr && p.frozen[i] != 0;
   for (int d = 0; d < D; ++d) {
     const std::size_t k = D * i + static_cast<std::size_t>(d);
-    const double vh = still ? 0.0 : std::fma(half, p.a[k], p.v[k]);
+    const double vh = still ? 0.0 : lanes::mul_add(half, p.a[k], p.v[k]);
     p.v_half[k] = vh;
-    p.x[k] = std::fma(dt, vh, p.x[k]);
-    p.v[k] = std::fma(half, p.a[k], vh);
+    p.x[k] = lanes::mul_add(dt, vh, p.x[k]);
+    p.v[k] = lanes::mul_add(half, p.a[k], vh);
   }
-  p.rho_half[i] = std::fma(half, p.drho[i], p.rho[i]);
-  p.rho[i] = std::fma(half, p.drho[i], p.rho_half[i]);
+  p.rho_half[i] = lanes::mul_add(half, p.drho[i], p.rho[i]);
+  p.rho[i] = lanes::mul_add(half, p.drho[i], p.rho_half[i]);
 }
 
 // Particle i's density (and temperature) kick.
 template <int D>
 void kick_density_one(const Arrays<D>& p, std::size_t i) {
-  p.rho[i] = std::fma(p.half, p.drho[i], p.rho_half[i]);
-  if (p.temperature != nullptr) p.temperature[i] = std::fma(p.half, p.dtemp[i], p.temp_half[i]);
+  p.rho[i] = lanes::mul_add(p.half, p.drho[i], p.rho_half[i]);
+  if (p.temperature != nullptr)
+    p.temperature[i] = lanes::mul_add(p.half, p.dtemp[i], p.temp_half[i]);
 }
 
 // Particle i of the second kick.
@@ -88,7 +90,7 @@ void kick_one(const Arrays<D>& p, std::size_t i, bool density) {
   for (int d = 0; d < D; ++d) {
     const std::size_t k = D * i + static_cast<std::size_t>(d);
     if (still) p.a[k] = 0.0;
-    p.v[k] = std::fma(half, p.a[k], p.v_half[k]);
+    p.v[k] = lanes::mul_add(half, p.a[k], p.v_half[k]);
   }
   if (density) kick_density_one<D>(p, i);
 }

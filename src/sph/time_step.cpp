@@ -132,12 +132,12 @@ __attribute__((optimize("fp-contract=off"))) LocalExtremes local_extremes_one_at
     // No helper function or lambda: it would be compiled with the default flag.
     const double* const v = ps.v[i].data();
     double vi = v[0] * v[0] + v[1] * v[1];
-    if constexpr (D == 3) vi = std::fma(v[2], v[2], vi);
+    if constexpr (D == 3) vi = lanes::mul_add(v[2], v[2], vi);
     v2 = vi > v2 ? vi : v2;  // std::max(v2, vi): a NaN keeps v2
     if (ps.kind[i] != Kind::Fluid || (!ps.frozen.empty() && ps.frozen[i] != 0)) continue;
     const double* const a = ps.a[i].data();
     double ai = a[0] * a[0] + a[1] * a[1];
-    if constexpr (D == 3) ai = std::fma(a[2], a[2], ai);
+    if constexpr (D == 3) ai = lanes::mul_add(a[2], a[2], ai);
     a2 = ai > a2 ? ai : a2;
     if (!ps.viscosity.empty()) mu = ps.viscosity[i] > mu ? ps.viscosity[i] : mu;
   }

@@ -3,6 +3,7 @@
 // vectorize itself (one-byte kinds beside D-double vectors): which of
 // particles i .. i + 7 are resin, and the masks of their vectors' doubles
 // (docs/performance.md, "The passes over particles").
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 
@@ -125,6 +126,18 @@ __m512d component(const __m512d (&r)[D], int d) {
   return c;
 }
 #endif
+
+// a b + c in the one-particle forms: fused where the build has FMA (every
+// AVX-512 build does, so these forms give the vector forms' bits); without
+// it a product and a sum, as GCC computes a b + c there, instead of a call
+// to libm's fma per particle.
+inline double mul_add(double a, double b, double c) {
+#if defined(__FMA__)
+  return std::fma(a, b, c);
+#else
+  return a * b + c;
+#endif
+}
 
 // Calls f(i) for each i < n with kind[i] == k, in increasing order (with
 // AVX-512, 64 kinds compared at a time: the passes that touch only the walls
