@@ -293,11 +293,9 @@ void ResinModule<D>::predict(double dt) {
   // (resin_leapfrog.hpp, eight at a time), the moving walls in another.
   kick_drift_resin<D>(ps_, dt);
   if (walls_.empty()) return;
-  for (std::size_t i = 0; i < ps_.n_owned; ++i) {
-    if (ps_.kind[i] == Kind::Wall && ps_.wall[i] >= 0) {
-      ps_.x[i] += disp[static_cast<std::size_t>(ps_.wall[i])];
-    }
-  }
+  lanes::for_each_of_kind(ps_.kind.data(), ps_.n_owned, Kind::Wall, [&](std::size_t i) {
+    if (ps_.wall[i] >= 0) ps_.x[i] += disp[static_cast<std::size_t>(ps_.wall[i])];
+  });
 }
 
 template <int D>

@@ -17,22 +17,6 @@
 namespace sphdem::lanes {
 
 #if defined(SPHDEM_PARTICLE_LANES)
-// Bit l: particle i + l is resin.
-inline __mmask8 resin(const Kind* kind, std::size_t i) {
-  static_assert(sizeof(Kind) == 1);
-  std::uint64_t kinds;
-  std::memcpy(&kinds, kind + i, sizeof kinds);
-  const __m128i k = _mm_cvtsi64_si128(static_cast<long long>(kinds));
-  return static_cast<__mmask8>(
-      _mm_cmpeq_epi8_mask(k, _mm_set1_epi8(static_cast<char>(Kind::Fluid))) & 0xff);
-}
-
-// Bit l: flag[i + l] is not 0.
-inline __mmask8 set(const std::int32_t* flag, std::size_t i) {
-  return _mm256_test_epi32_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(flag + i)),
-                                _mm256_set1_epi32(-1));
-}
-
 // For a mask of eight particles, the mask of the q-th of the D registers
 // that hold their D-vectors (particle l's doubles are D l .. D l + D - 1).
 template <int D>
@@ -58,10 +42,20 @@ inline __mmask8 of_kind(const Kind* kind, std::size_t i, __mmask8 valid, Kind k)
   return _mm_mask_cmpeq_epi8_mask(valid, kinds, _mm_set1_epi8(static_cast<char>(k)));
 }
 
+// Bit l: particle i + l is resin (a whole group of eight).
+inline __mmask8 resin(const Kind* kind, std::size_t i) {
+  return of_kind(kind, i, 0xff, Kind::Fluid);
+}
+
 // Bit l: particle i + l is one of `valid` and flag[i + l] is not 0.
 inline __mmask8 set(const std::int32_t* flag, std::size_t i, __mmask8 valid) {
   return _mm256_mask_test_epi32_mask(valid, _mm256_maskz_loadu_epi32(valid, flag + i),
                                      _mm256_set1_epi32(-1));
+}
+
+// Bit l: flag[i + l] is not 0 (a whole group of eight).
+inline __mmask8 set(const std::int32_t* flag, std::size_t i) {
+  return set(flag, i, 0xff);
 }
 
 // GCC 12's unmasked forms of some AVX-512 operations start from an undefined
