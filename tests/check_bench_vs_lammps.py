@@ -112,6 +112,22 @@ expect(all("-var nsteps 10" in c for c in calls if c.startswith("lammps")), "--s
 row = re.search(r"^\| 21k \| 1 \| 2 \|( [0-9.]+ \([0-9.]+-[0-9.]+\) \|){3}$", r.stdout, re.M)
 expect(row is not None, "one table row: median (min-max) of three ratios")
 
+# --startup: each round also runs the three commands with 0 steps, after
+# the others, and a table gives the 0-step times and the steps-alone ratio.
+open(log, "w").close()
+r = run("--cases", "21k", "--ranks", "1", "--rounds", "2", "--steps", "10", "--bench", fake_bench,
+        "--startup", "--out", os.path.join(work, "startup"),
+        env={"LMP": fake_lmp, "PATH": "/usr/bin:/bin"})
+print(r.stdout, r.stderr)
+calls = open(log).read().splitlines()
+kinds = [("sphdem" if c.startswith("sphdem") else ("cont" if "dens cont" in c else "sum")) +
+         ("0" if ("--steps 0" in c or "-var nsteps 0" in c) else "") for c in calls]
+expect(r.returncode == 0 and kinds == ["sphdem", "cont", "sum", "sphdem0", "cont0", "sum0"] * 2,
+       f"--startup: 0-step runs in every round, after the others: {kinds}")
+expect(re.search(r"^\| 21k \| 1 \| [0-9.]+ \([0-9.]+-[0-9.]+\) \| [0-9.]+ \([0-9.]+-[0-9.]+\) \| "
+                 r"([0-9.]+ \([0-9.]+-[0-9.]+\)|-) \|$", r.stdout, re.M) is not None,
+       "--startup: a row of 0-step times and the steps-alone ratio")
+
 # --pin: every run of both codes on the given CPUs (the stand-ins log the
 # CPUs the kernel lets them run on).
 pin_log = os.path.join(work, "pin.log")

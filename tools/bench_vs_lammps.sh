@@ -21,6 +21,7 @@ DEM_STEPS=4000
 OUT="$ROOT/out/bench_vs_lammps"
 DRY=0
 BUILD_PEER=0
+STARTUP=0
 PIN=""
 # The shipped cases' physics (inputs/plate.yaml): bench_sph's channel has
 # anti-clump and Morris viscosity on; delta-SPH is added here.
@@ -81,6 +82,12 @@ options:
                        not equal, 1-rank runs of both codes then land on the
                        same CPU (docs/performance.md, "this machine's two
                        CPUs"); use it with rank counts that fit in CPUS
+  --startup            SPH cases: each round also runs both codes with 0 steps
+                       (MPI start-up, set-up, the first lists, exit: what every
+                       run pays once), alternating with the others, and prints
+                       that fixed time per code and the ratio of the rest,
+                       (sphdem - its 0-step time) / (faster peer - its 0-step
+                       time): the steps alone
   --dry-run            print what would run (the peer build too), run nothing
   -h, --help           this help
 
@@ -104,6 +111,7 @@ while (($#)); do
     --out) OUT="$2"; shift 2 ;;
     --peer-dir) PEER_DIR="$2"; shift 2 ;;
     --pin) PIN="$2"; shift 2 ;;
+    --startup) STARTUP=1; shift ;;
     --dry-run) DRY=1; shift ;;
     -h | --help) usage; exit 0 ;;
     *) echo "bench_vs_lammps: unknown option '$1' (see --help)" >&2; exit 2 ;;
@@ -235,8 +243,15 @@ for c in $SPH_CASES; do
     for r in $RANKS; do
       ours="$mpi -n $r $BENCH --nx $nx --ny $ny --steps $STEPS$sets"
       lmp_cmd="$mpi -n $r $peer -in $DECK -var nx $nx -var ny $ny -var nsteps $STEPS -log none -screen none"
+      zero=()
+      if ((STARTUP)); then
+        zero=(-n sphdem_0 "$mpi -n $r $BENCH --nx $nx --ny $ny --steps 0$sets"
+              -n lammps_cont_0 "${lmp_cmd/-var nsteps $STEPS/-var nsteps 0} -var dens cont"
+              -n lammps_sum_0 "${lmp_cmd/-var nsteps $STEPS/-var nsteps 0} -var dens sum")
+      fi
       run hyperfine --runs 1 --style basic --export-json "$OUT/${c}_np${r}_round$k.json" \
-        -n sphdem "$ours" -n lammps_cont "$lmp_cmd -var dens cont" -n lammps_sum "$lmp_cmd -var dens sum"
+        -n sphdem "$ours" -n lammps_cont "$lmp_cmd -var dens cont" -n lammps_sum "$lmp_cmd -var dens sum" \
+        "${zero[@]}"
     done
   done
 done
@@ -274,6 +289,20 @@ if sph:
             summ = [x["sphdem"] / x["lammps_sum"] for x in t]
             best = [x["sphdem"] / min(x["lammps_cont"], x["lammps_sum"]) for x in t]
             print(f"| {c} | {r} | {rounds} | {cell(cont)} | {cell(summ)} | {cell(best)} |")
+    # With --startup: the 0-step runs of the same rounds.
+    if all("sphdem_0" in x for c in sph for r in ranks for x in times(c, r)):
+        print("| case | ranks | 0 steps: sphdem [s] | 0 steps: faster peer mode [s] | steps alone: sphdem / faster peer |")
+        print("| --- | --- | --- | --- | --- |")
+        for c in sph:
+            for r in ranks:
+                t = times(c, r)
+                fast = ["lammps_cont" if x["lammps_cont"] <= x["lammps_sum"] else "lammps_sum" for x in t]
+                ours0 = [x["sphdem_0"] for x in t]
+                peer0 = [x[f + "_0"] for x, f in zip(t, fast)]
+                # (a round whose peer run was not longer than its 0-step run has none)
+                alone = [(x["sphdem"] - x["sphdem_0"]) / (x[f] - x[f + "_0"])
+                         for x, f in zip(t, fast) if x[f] > x[f + "_0"]]
+                print(f"| {c} | {r} | {cell(ours0)} | {cell(peer0)} | {cell(alone) if alone else '-'} |")
 if dem:
     print("| case | ranks | rounds | sphdem / LAMMPS BPM |")
     print("| --- | --- | --- | --- |")
