@@ -241,17 +241,16 @@ for c in $SPH_CASES; do
   # one rank count to another compares runs of the same minutes.
   for k in $(seq "$ROUNDS"); do
     for r in $RANKS; do
-      ours="$mpi -n $r $BENCH --nx $nx --ny $ny --steps $STEPS$sets"
-      lmp_cmd="$mpi -n $r $peer -in $DECK -var nx $nx -var ny $ny -var nsteps $STEPS -log none -screen none"
-      zero=()
-      if ((STARTUP)); then
-        zero=(-n sphdem_0 "$mpi -n $r $BENCH --nx $nx --ny $ny --steps 0$sets"
-              -n lammps_cont_0 "${lmp_cmd/-var nsteps $STEPS/-var nsteps 0} -var dens cont"
-              -n lammps_sum_0 "${lmp_cmd/-var nsteps $STEPS/-var nsteps 0} -var dens sum")
-      fi
-      run hyperfine --runs 1 --style basic --export-json "$OUT/${c}_np${r}_round$k.json" \
-        -n sphdem "$ours" -n lammps_cont "$lmp_cmd -var dens cont" -n lammps_sum "$lmp_cmd -var dens sum" \
-        "${zero[@]}"
+      # The three commands of a round for N steps, named with SUFFIX.
+      commands() {
+        local n="$1" suffix="$2"
+        local lmp_cmd="$mpi -n $r $peer -in $DECK -var nx $nx -var ny $ny -var nsteps $n -log none -screen none"
+        printf '%s\0' -n "sphdem$suffix" "$mpi -n $r $BENCH --nx $nx --ny $ny --steps $n$sets" \
+          -n "lammps_cont$suffix" "$lmp_cmd -var dens cont" -n "lammps_sum$suffix" "$lmp_cmd -var dens sum"
+      }
+      mapfile -d '' -t round < <(commands "$STEPS" "")
+      ((STARTUP)) && mapfile -d '' -t -O "${#round[@]}" round < <(commands 0 _0)
+      run hyperfine --runs 1 --style basic --export-json "$OUT/${c}_np${r}_round$k.json" "${round[@]}"
     done
   done
 done
