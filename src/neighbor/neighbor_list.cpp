@@ -26,11 +26,28 @@ namespace {
 // -fsanitize=undefined does not report it).
 constexpr long kMaxCellsPerAxis = 1L << 20;
 
+// About this many particles per slab of sort_by_cell (a slab's walls
+// follow its resin): two slabs span fewer than 32,767 particles.
+constexpr long kSlabParticles = 8192;
+
+// The most cells a grid may have (make_grid).
+constexpr double kMaxCells = 0x1p29;
+
+// Cells are numbered along the owned particles' shortest axis first and
+// their longest last (stride): sorted by cell, the particles near one
+// another in space lie near one another in memory, whatever the domain's
+// orientation. A particle's neighbours then span 3^(D-1) short rows of
+// cells in memory instead of long ones (on the 99k channel, 720 x 132,
+// about 1,100 particles' records instead of 6,000; docs/performance.md,
+// "Cells numbered along the short axis first"). No result depends on the
+// order: every sum runs in global-id order.
 template <int D>
 struct Grid {
   Vec<D> lo;
   std::array<double, 3> inv_cell{1, 1, 1};
   std::array<long, 3> n{1, 1, 1};
+  std::array<long, 3> stride{1, 1, 1};
+  int slow = 0;  // the axis numbered last (stride: the others' cells)
 
   // A NaN coordinate goes to cell 0.
   long coord(const Vec<D>& x, int k) const {
@@ -38,9 +55,12 @@ struct Grid {
     if (!(c > 0.0)) return 0;
     return c < static_cast<double>(n[k] - 1) ? static_cast<long>(c) : n[k] - 1;
   }
+  long cell(long cx, long cy, long cz) const {
+    return cx * stride[0] + cy * stride[1] + cz * stride[2];
+  }
   long index(const Vec<D>& x) const {
     long id = 0;
-    for (int k = D - 1; k >= 0; --k) id = id * n[k] + coord(x, k);
+    for (int k = 0; k < D; ++k) id += coord(x, k) * stride[k];
     return id;
   }
   long cells() const { return n[0] * n[1] * n[2]; }
@@ -54,14 +74,18 @@ template <int D>
 Grid<D> make_grid(const std::vector<Vec<D>>& x, std::size_t count, double cell,
                   std::size_t aligned = 0) {
   Grid<D> g;
-  Vec<D> hi, lo_aligned;
+  Vec<D> hi, lo_aligned, hi_aligned;
   g.lo.setConstant(std::numeric_limits<double>::infinity());
   hi.setConstant(-std::numeric_limits<double>::infinity());
   lo_aligned = g.lo;
+  hi_aligned = hi;
   for (std::size_t i = 0; i < count; ++i) {
     g.lo = g.lo.cwiseMin(x[i]);
     hi = hi.cwiseMax(x[i]);
-    if (i < aligned) lo_aligned = lo_aligned.cwiseMin(x[i]);
+    if (i < aligned) {
+      lo_aligned = lo_aligned.cwiseMin(x[i]);
+      hi_aligned = hi_aligned.cwiseMax(x[i]);
+    }
   }
   if (count == 0) {
     g.lo.setZero();
@@ -91,12 +115,33 @@ Grid<D> make_grid(const std::vector<Vec<D>>& x, std::size_t count, double cell,
     }
     cells *= static_cast<double>(g.n[k]);
   }
-  // Cell indices are int32 (the binning's scratch). Particles spread over
-  // more: the run cannot continue (SimulationError, exit 3), as for a DEM
-  // particle flung far (include/sphdem/dem/cell_list.hpp).
-  if (cells >= static_cast<double>(std::numeric_limits<std::int32_t>::max()))
+  // The axes by the extent of the aligned particles (all of them when none
+  // are aligned), shortest first, ties in axis order: sort_by_cell's grid
+  // and the list build's then number their cells alike (the ghosts, which
+  // only the build's grid holds, do not change the order).
+  const Vec<D> span = aligned > 0 ? Vec<D>(hi_aligned - lo_aligned) : Vec<D>(hi - g.lo);
+  std::array<int, D> axes;
+  std::iota(axes.begin(), axes.end(), 0);
+  std::stable_sort(axes.begin(), axes.end(), [&](int a, int b) {
+    // A NaN or infinite extent sorts last (its axis holds one cell).
+    const double ea = std::isfinite(span[a]) ? span[a] : std::numeric_limits<double>::max();
+    const double eb = std::isfinite(span[b]) ? span[b] : std::numeric_limits<double>::max();
+    return ea < eb;
+  });
+  long stride = 1;
+  for (int a : axes) {
+    g.stride[static_cast<std::size_t>(a)] = stride;
+    stride *= g.n[static_cast<std::size_t>(a)];
+  }
+  g.slow = axes[D - 1];
+  // Cell indices are int32 (the binning's scratch), and sort_by_cell's
+  // keys reach four times the cells (resin and walls apart, slabs rounded
+  // up). Particles spread over more: the run cannot continue
+  // (SimulationError, exit 3), as for a DEM particle flung far
+  // (include/sphdem/dem/cell_list.hpp).
+  if (cells >= kMaxCells)
     throw SimulationError(fmt::format(
-        "SPH particles spread over {:.3g} neighbour-grid cells of {:g} m or wider, past 2^31 "
+        "SPH particles spread over {:.3g} neighbour-grid cells of {:g} m or wider, past 2^29 "
         "(some particle far outside the domain: the resin blew up)",
         cells, cell));
   return g;
@@ -111,25 +156,9 @@ std::int32_t* int_scratch(std::size_t n) {
   return reinterpret_cast<std::int32_t*>(shared_scratch((n + 1) / 2));
 }
 
-// Counting sort of the first `count` particles into cells: items[start[c]
-// .. start[c + 1]) are cell c's particles, in index order. cell_of and
-// items hold `count` entries each.
-template <int D>
-void bin(const Grid<D>& g, const std::vector<Vec<D>>& x, std::size_t count,
-         std::vector<std::int32_t>& start, std::int32_t* cell_of, std::int32_t* items) {
-  start.assign(static_cast<std::size_t>(g.cells()) + 1, 0);
-  thread_local std::vector<std::int32_t> fill;
-  for (std::size_t i = 0; i < count; ++i) {
-    cell_of[i] = static_cast<std::int32_t>(g.index(x[i]));
-    ++start[static_cast<std::size_t>(cell_of[i]) + 1];
-  }
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  fill.assign(start.begin(), start.end() - 1);
-  for (std::size_t i = 0; i < count; ++i) items[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
-}
-
-// bin, with each cell's resin before its walls: items[start[c] ..
-// resin_end[c]) are cell c's resin particles. Wall particles list only
+// A counting sort of the particles into cells, each cell's resin before
+// its walls: items[start[c] .. resin_end[c]) are cell c's resin particles,
+// items[resin_end[c] .. start[c + 1]) its walls, in index order. Wall particles list only
 // resin, so their search skips the walls' part of every cell (in 3D the
 // walls outnumber the resin near a wall) instead of testing each one.
 template <int D>
@@ -246,23 +275,24 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
     std::size_t candidates = 0;
     for (long cz = lo[2]; cz <= hi[2]; ++cz)
       for (long cy = lo[1]; cy <= hi[1]; ++cy) {
-        const long row = (cz * g.n[1] + cy) * g.n[0];
-        for (long cell = row + lo[0]; cell <= row + hi[0]; ++cell)
+        for (long cx = lo[0]; cx <= hi[0]; ++cx) {
+          const long cell = g.cell(cx, cy, cz);
           candidates += static_cast<std::size_t>(
               (resin_only ? cell_resin_end_[cell] : cell_start_[cell + 1]) - cell_start_[cell]);
+        }
       }
     if (keys.size() < candidates) keys.resize(candidates);
     if (list.size() < candidates + 8) list.resize(candidates + 8);  // near() stores whole vectors
     // Every candidate is written; per particle, kept when inside the
     // cut-off: no branch on the distance test, taken about a third of the time.
     std::uint64_t* key = keys.data();
-    const long own_cell = (c[2] * g.n[1] + c[1]) * g.n[0] + c[0];
+    const long own_cell = g.cell(c[0], c[1], c[2]);
     const bool gather = !shared || own_cell != prepared;
     std::size_t m = 0;
     for (long cz = lo[2]; gather && cz <= hi[2]; ++cz)
       for (long cy = lo[1]; cy <= hi[1]; ++cy)
         for (long cx = lo[0]; cx <= hi[0]; ++cx) {
-          const long cell = (cz * g.n[1] + cy) * g.n[0] + cx;
+          const long cell = g.cell(cx, cy, cz);
           const std::int32_t last = resin_only ? cell_resin_end_[cell] : cell_start_[cell + 1];
           for (std::int32_t s = cell_start_[cell]; s < last; ++s) {
             const std::int32_t j = cell_items[s];
@@ -436,7 +466,33 @@ void sort_by_cell(SphParticles<D>& ps, double cell) {
   thread_local std::vector<std::int32_t> start;
   std::int32_t* cell_of = int_scratch(2 * n);
   std::int32_t* order = cell_of + n;
-  bin<D>(g, ps.x, n, start, cell_of, order);
+  // In slabs of whole cell layers across the slowest axis, each slab's
+  // resin first, then its walls, each by cell: the lanes of the passes and
+  // the pair loop meet few walls among the resin (a wall in every column
+  // of cells slowed the 21k channel by 2-3 %), and a resin particle's wall
+  // neighbours lie at most two slabs away, within a 16-bit list's offsets
+  // (walls after all the resin put 2.9 % of the 99k channel's pairs in
+  // 32-bit lists). docs/performance.md, "Cells numbered along the short
+  // axis first".
+  const long layer = g.stride[static_cast<std::size_t>(g.slow)];  // cells per layer
+  const long per_layer =
+      std::max<long>(1, static_cast<long>(n) / g.n[static_cast<std::size_t>(g.slow)]);
+  const long slab =  // cells per slab
+      std::min(g.cells(), layer * std::max<long>(1, kSlabParticles / per_layer));
+  const long slabs = (g.cells() + slab - 1) / slab;
+  start.assign(static_cast<std::size_t>(2 * slabs * slab) + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const long c = g.index(ps.x[i]);
+    const long key = c + (c / slab + (ps.kind[i] == Kind::Wall ? 1 : 0)) * slab;
+    cell_of[i] = static_cast<std::int32_t>(key);
+    ++start[static_cast<std::size_t>(key) + 1];
+  }
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  {
+    thread_local std::vector<std::int32_t> fill;
+    fill.assign(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) order[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
+  }
   for (std::size_t c = 0; c + 1 < start.size(); ++c)
     std::sort(order + start[c], order + start[c + 1],
               [&](std::int32_t a, std::int32_t b) { return ps.gid[a] < ps.gid[b]; });
