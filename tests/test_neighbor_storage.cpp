@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <random>
 #include <string>
 #include <utility>
@@ -251,6 +252,97 @@ TEST(NeighborStorage, GridBeyondInt32CellsIsAClearError) {
     ADD_FAILURE() << "no error";
   } catch (const SimulationError& e) {
     EXPECT_NE(std::string(e.what()).find("neighbour-grid cells"), std::string::npos) << e.what();
+  }
+}
+
+// The cells are numbered along the owned particles' shortest axis first
+// and sort_by_cell puts each slab's walls after its resin (issue 19,
+// docs/performance.md "Cells numbered along the short axis first"): a
+// particle's neighbours lie close in memory however the domain lies.
+
+// The largest |j - i| over the owned particles' lists.
+template <int D>
+long widest_offset(const NeighborList<D>& nl, std::size_t n_owned) {
+  long widest = 0;
+  for (std::size_t i = 0; i < n_owned; ++i) {
+    const NeighborRow nb = nl.row(i);
+    for (std::size_t n = nl.begin(i); n < nl.end(i); ++n)
+      widest = std::max(widest, std::abs(static_cast<long>(nb[n]) - static_cast<long>(i)));
+  }
+  return widest;
+}
+
+// An `along` x `across` lattice of resin (spacing 1), between two rows of
+// walls if `walls`, along x or along y, added in a shuffled order.
+SphParticles<2> strip(int along, int across, bool along_x, bool walls) {
+  std::vector<std::pair<Vec<2>, Kind>> sites;
+  const int edge = walls ? 1 : 0;
+  for (int a = 0; a < along; ++a)
+    for (int c = -edge; c < across + edge; ++c) {
+      const Kind kind = c < 0 || c == across ? Kind::Wall : Kind::Fluid;
+      sites.push_back({along_x ? Vec<2>(a, c) : Vec<2>(c, a), kind});
+    }
+  std::shuffle(sites.begin(), sites.end(), std::mt19937(5));
+  SphParticles<2> ps;
+  for (std::size_t k = 0; k < sites.size(); ++k)
+    add(ps, static_cast<std::int64_t>(k), sites[k].second, sites[k].first);
+  return ps;
+}
+
+// 400 x 8 along either axis: the neighbours lie within the two lattice
+// columns beside a particle's (x first, the old order, put 400 between
+// rows of the strip along x). (With walls, a slab's resin lies between a
+// particle and its wall neighbours: the next test.)
+TEST(NeighborStorage, SortByCellNumbersTheShortAxisFirst) {
+  for (const bool along_x : {true, false}) {
+    SphParticles<2> ps = strip(400, 8, along_x, false);
+    sort_by_cell<2>(ps, 1.2);
+    NeighborList<2> nl(1.0, 0.2);
+    nl.build(ps);
+    EXPECT_LE(widest_offset(nl, ps.n_owned), 60) << "along x: " << along_x;
+    const std::vector<std::size_t> some{0, 1, 7, 100, 1999, 3199};
+    expect_rows(ps, nl, some);
+  }
+}
+
+// 6,000 x 6 resin between two wall rows (48,000 particles): a few runs of
+// walls (one per slab; a wall in every column of cells made thousands) and
+// every list within 16 bits (walls after all the resin put the first
+// slabs' walls 36,000 particles off).
+TEST(NeighborStorage, SortByCellPutsEachSlabsWallsAfterItsResin) {
+  SphParticles<2> ps = strip(6000, 6, true, true);
+  sort_by_cell<2>(ps, 1.2);
+  std::size_t runs = 0;  // of walls
+  for (std::size_t i = 0; i < ps.n_owned; ++i)
+    runs += ps.kind[i] == Kind::Wall && (i == 0 || ps.kind[i - 1] != Kind::Wall);
+  EXPECT_GE(runs, 2u);
+  EXPECT_LE(runs, 12u);
+  NeighborList<2> nl(1.0, 0.2);
+  nl.build(ps);
+  EXPECT_EQ(nl.wide_pairs(), 0u);
+  EXPECT_LE(widest_offset(nl, ps.n_owned), 32767);
+}
+
+// A 3D plate 40 x 40 x 3, thin along each axis in turn: the neighbours lie
+// within three layers of the long axes' cells (x first, the old order, put
+// 1,600 between the layers of the plate thin along z).
+TEST(NeighborStorage, SortByCellNumbersTheShortAxisFirst3D) {
+  for (int thin = 0; thin < 3; ++thin) {
+    SphParticles<3> ps;
+    std::int64_t gid = 0;
+    for (int a = 0; a < 40; ++a)
+      for (int b = 0; b < 40; ++b)
+        for (int c = 0; c < 3; ++c) {
+          Vec<3> x;
+          x[thin] = c;
+          x[(thin + 1) % 3] = a;
+          x[(thin + 2) % 3] = b;
+          ps.push_owned(gid++, Kind::Fluid, -1, 1.0, x, Vec<3>::Zero(), 1000.0);
+        }
+    sort_by_cell<3>(ps, 1.2);
+    NeighborList<3> nl(1.0, 0.2);
+    nl.build(ps);
+    EXPECT_LE(widest_offset(nl, ps.n_owned), 3 * 2 * 40 * 3) << "thin along " << thin;
   }
 }
 
