@@ -30,9 +30,6 @@ constexpr long kMaxCellsPerAxis = 1L << 20;
 // follow its resin): two slabs span fewer than 32,767 particles.
 constexpr long kSlabParticles = 8192;
 
-// The most cells a grid may have (make_grid).
-constexpr double kMaxCells = 0x1p29;
-
 // Cells are numbered along the owned particles' shortest axis first and
 // their longest last (stride): sorted by cell, the particles near one
 // another in space lie near one another in memory, whatever the domain's
@@ -134,14 +131,12 @@ Grid<D> make_grid(const std::vector<Vec<D>>& x, std::size_t count, double cell,
     stride *= g.n[static_cast<std::size_t>(a)];
   }
   g.slow = axes[D - 1];
-  // Cell indices are int32 (the binning's scratch), and sort_by_cell's
-  // keys reach four times the cells (resin and walls apart, slabs rounded
-  // up). Particles spread over more: the run cannot continue
-  // (SimulationError, exit 3), as for a DEM particle flung far
-  // (include/sphdem/dem/cell_list.hpp).
-  if (cells >= kMaxCells)
+  // Cell indices are int32 (the binning's scratch). Particles spread over
+  // more: the run cannot continue (SimulationError, exit 3), as for a DEM
+  // particle flung far (include/sphdem/dem/cell_list.hpp).
+  if (cells >= static_cast<double>(std::numeric_limits<std::int32_t>::max()))
     throw SimulationError(fmt::format(
-        "SPH particles spread over {:.3g} neighbour-grid cells of {:g} m or wider, past 2^29 "
+        "SPH particles spread over {:.3g} neighbour-grid cells of {:g} m or wider, past 2^31 "
         "(some particle far outside the domain: the resin blew up)",
         cells, cell));
   return g;
@@ -154,6 +149,23 @@ Grid<D> make_grid(const std::vector<Vec<D>>& x, std::size_t count, double cell,
 // record buffer, unused during a rebuild ("16-bit neighbour lists").
 std::int32_t* int_scratch(std::size_t n) {
   return reinterpret_cast<std::int32_t*>(shared_scratch((n + 1) / 2));
+}
+
+// Counting sort of the first `count` particles into cells: items[start[c]
+// .. start[c + 1]) are cell c's particles, in index order. cell_of and
+// items hold `count` entries each.
+template <int D>
+void bin(const Grid<D>& g, const std::vector<Vec<D>>& x, std::size_t count,
+         std::vector<std::int32_t>& start, std::int32_t* cell_of, std::int32_t* items) {
+  start.assign(static_cast<std::size_t>(g.cells()) + 1, 0);
+  thread_local std::vector<std::int32_t> fill;
+  for (std::size_t i = 0; i < count; ++i) {
+    cell_of[i] = static_cast<std::int32_t>(g.index(x[i]));
+    ++start[static_cast<std::size_t>(cell_of[i]) + 1];
+  }
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  fill.assign(start.begin(), start.end() - 1);
+  for (std::size_t i = 0; i < count; ++i) items[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
 }
 
 // A counting sort of the particles into cells, each cell's resin before
@@ -466,37 +478,35 @@ void sort_by_cell(SphParticles<D>& ps, double cell) {
   thread_local std::vector<std::int32_t> start;
   std::int32_t* cell_of = int_scratch(2 * n);
   std::int32_t* order = cell_of + n;
-  // In slabs of whole cell layers across the slowest axis, each slab's
-  // resin first, then its walls, each by cell: the lanes of the passes and
-  // the pair loop meet few walls among the resin (a wall in every column
-  // of cells slowed the 21k channel by 2-3 %), and a resin particle's wall
-  // neighbours lie at most two slabs away, within a 16-bit list's offsets
-  // (walls after all the resin put 2.9 % of the 99k channel's pairs in
-  // 32-bit lists). docs/performance.md, "Cells numbered along the short
-  // axis first".
-  const long layer = g.stride[static_cast<std::size_t>(g.slow)];  // cells per layer
-  const long per_layer =
-      std::max<long>(1, static_cast<long>(n) / g.n[static_cast<std::size_t>(g.slow)]);
-  const long slab =  // cells per slab
-      std::min(g.cells(), layer * std::max<long>(1, kSlabParticles / per_layer));
-  const long slabs = (g.cells() + slab - 1) / slab;
-  start.assign(static_cast<std::size_t>(2 * slabs * slab) + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const long c = g.index(ps.x[i]);
-    const long key = c + (c / slab + (ps.kind[i] == Kind::Wall ? 1 : 0)) * slab;
-    cell_of[i] = static_cast<std::int32_t>(key);
-    ++start[static_cast<std::size_t>(key) + 1];
-  }
-  std::partial_sum(start.begin(), start.end(), start.begin());
-  {
-    thread_local std::vector<std::int32_t> fill;
-    fill.assign(start.begin(), start.end() - 1);
-    for (std::size_t i = 0; i < n; ++i) order[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
-  }
+  bin<D>(g, ps.x, n, start, cell_of, order);
   for (std::size_t c = 0; c + 1 < start.size(); ++c)
     std::sort(order + start[c], order + start[c + 1],
               [&](std::int32_t a, std::int32_t b) { return ps.gid[a] < ps.gid[b]; });
-  permute_owned_fields(ps, std::span<const std::int32_t>(order, n));
+  // Then in slabs of whole cell layers across the slowest axis, each
+  // slab's resin first, then its walls (into cell_of's half of the
+  // scratch, no longer needed): the lanes of the passes and the pair loop
+  // meet few walls among the resin (a wall in every column of cells slowed
+  // the 21k channel by 2-3 %), and a resin particle's wall neighbours lie
+  // at most two slabs away, within a 16-bit list's offsets (walls after
+  // all the resin put 2.9 % of the 99k channel's pairs in 32-bit lists).
+  // docs/performance.md, "Cells numbered along the short axis first".
+  const long cells = g.cells();
+  const long layer = g.stride[static_cast<std::size_t>(g.slow)];  // cells per layer
+  const long per_layer =
+      std::max<long>(1, static_cast<long>(n) / g.n[static_cast<std::size_t>(g.slow)]);
+  const long slab = layer * std::max<long>(1, kSlabParticles / per_layer);  // cells per slab
+  std::int32_t* const sorted = cell_of;
+  std::size_t at = 0;
+  for (long first = 0; first < cells; first += slab) {
+    const std::int32_t* const from = order + start[static_cast<std::size_t>(first)];
+    const std::int32_t* const to =
+        order + start[static_cast<std::size_t>(std::min(cells, first + slab))];
+    for (const std::int32_t* p = from; p < to; ++p)
+      if (ps.kind[*p] != Kind::Wall) sorted[at++] = *p;
+    for (const std::int32_t* p = from; p < to; ++p)
+      if (ps.kind[*p] == Kind::Wall) sorted[at++] = *p;
+  }
+  permute_owned_fields(ps, std::span<const std::int32_t>(sorted, n));
 }
 
 template class NeighborList<2>;
