@@ -170,9 +170,10 @@ void bin(const Grid<D>& g, const std::vector<Vec<D>>& x, std::size_t count,
 
 // A counting sort of the particles into cells, each cell's resin before
 // its walls: items[start[c] .. resin_end[c]) are cell c's resin particles,
-// items[resin_end[c] .. start[c + 1]) its walls, in index order. Wall particles list only
-// resin, so their search skips the walls' part of every cell (in 3D the
-// walls outnumber the resin near a wall) instead of testing each one.
+// items[resin_end[c] .. start[c + 1]) its walls, in index order. Wall
+// particles list only resin, so their search skips the walls' part of
+// every cell (in 3D the walls outnumber the resin near a wall) instead of
+// testing each one.
 template <int D>
 void bin_resin_first(const Grid<D>& g, const SphParticles<D>& ps, std::vector<std::int32_t>& start,
                      std::vector<std::int32_t>& resin_end, std::int32_t* cell_of,
