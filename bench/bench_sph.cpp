@@ -116,6 +116,9 @@ int main(int argc, char** argv) {
             100.0 * static_cast<double>(sim.resin()->neighbor_wide_pairs()) /
                 static_cast<double>(std::max<std::size_t>(1, sim.resin()->neighbor_pairs())),
             static_cast<long long>(sim.resin()->neighbor_builds()));
+        // Load balance (parallel.balance_weight, docs/parallel.md).
+        std::printf("balance: %lld re-partitions, imbalance %.1f %% at the last check\n",
+                    static_cast<long long>(sim.repartitions()), 100.0 * sim.last_imbalance());
       }
     }
   }

@@ -4,5 +4,5 @@
 # The comparisons with one rank need several ranks; the serial building
 # blocks run once, at 1 rank.
 sphdem_test(test_parallel SOURCES test_parallel.cpp RANKS 1 2 3 4 LABELS mpi TIMEOUT 600
-            MULTI_RANK_TESTS "RankIndependence.*:LoadBalance.*:Snapshots.*"
+            MULTI_RANK_TESTS "RankIndependence.*:LoadBalance.*:MeasuredTime.*:Snapshots.*"
             ONE_RANK_TESTS "CellGrid.*:Partition.*")

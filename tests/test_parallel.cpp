@@ -132,8 +132,10 @@ void count_crossings(const SphParticles<D>& ps, const std::vector<std::int64_t>&
 // checks that the run did cross ranks: resin ghosts from another rank
 // (every rate sums over them) and, when `expect_migration`, resin that
 // migrated (its fields must travel).
+// `repartitions` (when given): set to the run's re-partition count.
 template <int D>
-void expect_rank_independent(const Case& c, std::int64_t steps, bool expect_migration = true) {
+void expect_rank_independent(const Case& c, std::int64_t steps, bool expect_migration = true,
+                             std::int64_t* repartitions = nullptr) {
   const Comm world;
   ASSERT_GT(world.size(), 1) << "a comparison with one rank needs several ranks";
   const std::vector<Row> ref = reference<D>(world, c, steps);
@@ -149,6 +151,7 @@ void expect_rank_independent(const Case& c, std::int64_t steps, bool expect_migr
     count_crossings<D>(sim.particles(), initial, local);
   }
   const std::vector<Row> got = gather_fluid<D>(world, sim.particles());
+  if (repartitions) *repartitions = sim.repartitions();
   const std::int64_t ghosts = world.sum(local.foreign_ghosts);
   const std::int64_t arrivals = world.sum(local.arrivals);
   if (!world.root()) return;
@@ -306,6 +309,20 @@ TEST(RankIndependence, DamBreakWithForcedRebalancing) {
                              600);
 }
 
+// The same column with the re-partitions weighted by measured time
+// (parallel.balance_weight: time): each rank's parts follow its clock, so
+// the partition differs from run to run; the results may not.
+TEST(RankIndependence, DamBreakBalancedByMeasuredTime) {
+  std::int64_t repartitions = 0;
+  expect_rank_independent<2>(load("validation/dam_break.yaml",
+                                  {"parallel.balance_every=10", "parallel.imbalance_threshold=0",
+                                   "parallel.balance_weight=time"}),
+                             300, true, &repartitions);
+  // Busy times are never exactly equal, so every check re-partitions: 5
+  // in these 300 steps (a check waits for a rebuild).
+  EXPECT_GE(repartitions, 3);
+}
+
 // The plate mold at a coarse spacing: the moving piston, its pressure
 // controller fed by the face pressure summed over ranks in gid order, and
 // the resin flowing through the nozzle.
@@ -430,6 +447,68 @@ TEST(LoadBalance, CrossingResinIsRankIndependent) {
   expect_rank_independent<2>(c, 500);
 }
 
+// --------------------------------------------- balance by measured time
+
+// Decomposition::partition_by_time, with busy times given instead of
+// measured (no test depends on timing): a square of equal work split
+// evenly, then rank r reports r + 1 times rank 0's seconds per unit of
+// work. The re-partition must give rank r the share that equalises the
+// times, 1 / (r + 1) normalised; a second one, fed the times of the first
+// split, must keep it.
+TEST(MeasuredTime, SlowRanksGetLessWork) {
+  const Comm world;
+  ASSERT_GT(world.size(), 1);
+  const Box<2> box{Vec<2>(0, 0), Vec<2>(48, 48)};
+  Decomposition<2> dec(world, box, {false, false, false}, 1.0);
+  ASSERT_EQ(dec.blocks(), 48 * 48);
+  const std::vector<std::int64_t> uniform(static_cast<std::size_t>(dec.blocks()), 10);
+  dec.partition(uniform, /*replicated=*/true);
+  const auto mine = [&] {  // this rank's work per block, as cell_work gives it
+    std::vector<std::int64_t> w(uniform.size(), 0);
+    for (std::size_t b = 0; b < w.size(); ++b)
+      if (dec.block_owners()[b] == world.rank()) w[b] = uniform[b];
+    return w;
+  };
+  const auto sum = [](const std::vector<std::int64_t>& w) {
+    return std::accumulate(w.begin(), w.end(), std::int64_t{0});
+  };
+  const int ranks = world.size();
+  const double total = 10.0 * static_cast<double>(dec.blocks());
+  const double slowness = world.rank() + 1.0;  // seconds per unit of work, x 1e-6
+  std::vector<std::int64_t> work = mine();
+  const double even = static_cast<double>(sum(work)) / total;
+  EXPECT_NEAR(even, 1.0 / ranks, 0.03);
+  double mean = 0, speeds = 0;
+  for (int r = 0; r < ranks; ++r) {
+    mean += (r + 1.0) / ranks;
+    speeds += 1.0 / (r + 1.0);
+  }
+  // The measured imbalance is that of the busy times, about max / mean - 1.
+  const double before = dec.time_imbalance(1e-6 * slowness * static_cast<double>(sum(work)));
+  EXPECT_NEAR(before, ranks / mean - 1.0, 0.1);
+
+  const double predicted = dec.partition_by_time(work, 1e-6 * slowness * sum(work));
+  work = mine();
+  const double first = static_cast<double>(sum(work)) / total;
+  const double expected = (1.0 / slowness) / speeds;
+  // METIS's 3 % tolerance on the parts, and the blocks' granularity.
+  EXPECT_NEAR(first, expected, 0.03 * expected + 0.005) << "rank " << world.rank();
+  const double after = dec.time_imbalance(1e-6 * slowness * static_cast<double>(sum(work)));
+  if (world.root()) {
+    std::printf("[          ] %d ranks: time imbalance %.3f even, %.3f after (%.3f predicted)\n",
+                ranks, before, after, predicted);
+  }
+  EXPECT_LT(after, 0.05);
+  EXPECT_NEAR(after, predicted, 1e-9) << "the prediction is the busy times' imbalance";
+
+  // A second check that finds the times balanced would not re-partition;
+  // forced, it keeps the shares.
+  dec.partition_by_time(work, 1e-6 * slowness * sum(work));
+  const std::vector<std::int64_t> again = mine();
+  EXPECT_NEAR(static_cast<double>(sum(again)) / total, expected, 0.03 * expected + 0.005);
+}
+
+// ------------------------------------------------------------- HDF5
 // ------------------------------------------------------------- HDF5
 
 #if H5_VERSION_GE(1, 12, 0)
@@ -590,6 +669,53 @@ TEST(Partition, MetisBalancesAGrid) {
   std::vector<int> size(4, 0);
   for (int p : part) ++size[static_cast<std::size_t>(p)];
   for (int s : size) EXPECT_NEAR(s, 16, 1) << "cells per part";
+}
+
+// Balancing measured time, its serial pieces (docs/parallel.md, "Balancing
+// measured time"). A rank with nothing measured takes the median of the
+// others, and none strays beyond kMaxTimeFactor of it.
+TEST(Partition, UsableSecondsPerWork) {
+  const double f = detail::kMaxTimeFactor;
+  // Measured: 0.1, 2, 3, 4, 100; median 3.
+  const std::vector<double> s =
+      detail::usable_seconds_per_work({2.0, std::nan(""), 4.0, -1.0, 0.0, 100.0, 0.1, 3.0});
+  EXPECT_EQ(s, (std::vector<double>{2.0, 3.0, 4.0, 3.0, 3.0, 3.0 * f, 3.0 / f, 3.0}));
+  // An even count: the mean of the middle two.
+  EXPECT_EQ(detail::usable_seconds_per_work({1.0, 2.0, 4.0, 5.0, std::nan("")}),
+            (std::vector<double>{1.0, 2.0, 4.0, 5.0, 3.0}));
+  EXPECT_EQ(detail::usable_seconds_per_work({0.0, std::nan("")}), (std::vector<double>{1.0, 1.0}));
+}
+
+// A 48 x 48 grid of equal work split evenly, then ranks r + 1 times slower
+// per unit of work: the chosen owners give every rank the same predicted
+// time, within METIS's 3 %, and the predicted imbalance is computed from
+// the owners as defined.
+TEST(Partition, OwnersForTimesBalancesPredictedTimes) {
+  const Box<2> box{Vec<2>(0, 0), Vec<2>(48, 48)};
+  const CellGrid<2> g(box, {false, false, false}, 1.0);
+  const std::vector<std::int64_t> work(48 * 48, 10);
+  for (int parts : {2, 3, 4}) {
+    const std::vector<int> even = detail::compute_owners<2>(g, work, {}, false, parts);
+    std::vector<double> seconds;
+    for (int r = 0; r < parts; ++r) seconds.push_back(r + 1.0);
+    const double before = detail::time_imbalance(work, even, seconds);
+    const std::vector<int> owner = detail::owners_for_times<2>(g, work, even, seconds);
+    std::vector<double> t(static_cast<std::size_t>(parts), 0.0);
+    for (std::size_t c = 0; c < owner.size(); ++c)
+      t[static_cast<std::size_t>(owner[c])] += seconds[static_cast<std::size_t>(owner[c])] * 10;
+    const double mean = std::accumulate(t.begin(), t.end(), 0.0) / parts;
+    const double after = detail::time_imbalance(work, owner, seconds);
+    EXPECT_DOUBLE_EQ(after, *std::max_element(t.begin(), t.end()) / mean - 1.0);
+    EXPECT_GT(before, 0.3) << parts << " parts";
+    EXPECT_LT(after, 0.05) << parts << " parts";
+    // Sized for the ranks that keep their parts: most work stays (moving
+    // everything, candidate (c), is not needed on this grid).
+    long moved = 0;
+    for (std::size_t c = 0; c < owner.size(); ++c) moved += owner[c] != even[c];
+    std::printf("[          ] %d parts: time imbalance %.3f -> %.3f, %.1f %% of the cells moved\n",
+                parts, before, after, 100.0 * static_cast<double>(moved) / 2304.0);
+    EXPECT_LT(moved, 2304 / 2) << parts << " parts";
+  }
 }
 
 TEST(OrderedSum, SameBitsAtEveryRankCount) {

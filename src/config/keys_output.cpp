@@ -64,6 +64,29 @@ Section<Output> make_output() {
   return s;
 }
 
+Key<ParallelSettings> balance_weight() {
+  Key<ParallelSettings> k{
+      "balance_weight",
+      "enum",
+      "",
+      "",
+      "model or time",
+      "what the imbalance check and a re-partition balance; model: the work counts above, "
+      "the same decisions on every machine; time: the compute seconds each rank measured "
+      "since the last check (the imbalance is theirs, and the new parts are sized by each "
+      "rank's measured seconds per unit of work: ranks on slower or shared cores get less "
+      "work; the decisions depend on the machine, the results do not); docs/parallel.md "
+      "\"Balancing measured time\""};
+  k.read = [](const Value& v, ParallelSettings& p, Context&) {
+    p.balance_weight =
+        one_of(v, {"model", "time"}) == "time" ? BalanceWeight::Time : BalanceWeight::Model;
+  };
+  k.show = [](const ParallelSettings& p) {
+    return p.balance_weight == BalanceWeight::Time ? "time" : "model";
+  };
+  return k;
+}
+
 Section<ParallelSettings> make_parallel() {
   using P = ParallelSettings;
   Section<P> s;
@@ -78,6 +101,7 @@ Section<ParallelSettings> make_parallel() {
           "fraction (work: 10 per resin particle, 3 per wall particle and, in a coupled run, 5 x "
           "the last step's DEM sub-steps per fiber particle; docs/parallel.md \"Which "
           "weights, when\")"),
+      balance_weight(),
       integer("min_top_cells", "", 1, &P::min_top_cells,
               "the decomposition partitions top-level cells, blocks of b^D neighbor-search "
               "cells with the smallest b that leaves at most max(top_cells_per_rank x ranks, "

@@ -51,8 +51,8 @@ std::vector<idx_t> metis_weights(const std::vector<std::int64_t>& weight) {
 }
 }  // namespace
 
-std::vector<int> partition_graph(const Graph& g, const std::vector<std::int64_t>& weight,
-                                 int parts) {
+std::vector<int> partition_graph(const Graph& g, const std::vector<std::int64_t>& weight, int parts,
+                                 const std::vector<double>& targets) {
   idx_t nvtxs = g.vertices();
   std::vector<int> part(static_cast<std::size_t>(nvtxs), 0);
   if (parts <= 1) return part;
@@ -69,9 +69,16 @@ std::vector<int> partition_graph(const Graph& g, const std::vector<std::int64_t>
   METIS_SetDefaultOptions(options);
   options[METIS_OPTION_UFACTOR] = 30;  // 3 % imbalance, METIS's k-way default, stated
   idx_t ncon = 1, nparts = parts, objval = 0;
-  const int rc =
-      METIS_PartGraphKway(&nvtxs, &ncon, xadj.data(), adjncy.data(), vwgt.data(), nullptr, nullptr,
-                          &nparts, nullptr, nullptr, options, &objval, result.data());
+  std::vector<real_t> tpwgts;
+  if (!targets.empty()) {
+    if (static_cast<int>(targets.size()) != parts)
+      throw std::invalid_argument("partition_graph: one target per part");
+    const double sum = std::accumulate(targets.begin(), targets.end(), 0.0);
+    for (double t : targets) tpwgts.push_back(static_cast<real_t>(t / sum));
+  }
+  const int rc = METIS_PartGraphKway(
+      &nvtxs, &ncon, xadj.data(), adjncy.data(), vwgt.data(), nullptr, nullptr, &nparts,
+      tpwgts.empty() ? nullptr : tpwgts.data(), nullptr, options, &objval, result.data());
   if (rc != METIS_OK) {
     throw std::runtime_error("sphdem: METIS_PartGraphKway failed (code " + std::to_string(rc) +
                              ") on " + std::to_string(nvtxs) + " cells");
@@ -296,7 +303,8 @@ namespace detail {
 // exactly what a run would.
 template <int D>
 std::vector<int> compute_owners(const CellGrid<D>& grid, const std::vector<std::int64_t>& work,
-                                const std::vector<int>& old, bool relabel, int parts) {
+                                const std::vector<int>& old, bool relabel, int parts,
+                                const std::vector<double>& targets) {
   std::vector<long> cells;
   std::vector<std::int64_t> weight;
   for (std::size_t c = 0; c < work.size(); ++c) {
@@ -306,7 +314,7 @@ std::vector<int> compute_owners(const CellGrid<D>& grid, const std::vector<std::
   }
   const detail::CellNeighbors nb = neighbor_function(grid);
   const std::vector<int> part =
-      detail::partition_graph(detail::induced_graph(cells, nb), weight, parts);
+      detail::partition_graph(detail::induced_graph(cells, nb), weight, parts, targets);
   std::vector<int> owner(work.size(), -1);
   for (std::size_t v = 0; v < cells.size(); ++v)
     owner[static_cast<std::size_t>(cells[v])] = part[v];
@@ -315,9 +323,112 @@ std::vector<int> compute_owners(const CellGrid<D>& grid, const std::vector<std::
 }
 
 template std::vector<int> compute_owners<2>(const CellGrid<2>&, const std::vector<std::int64_t>&,
-                                            const std::vector<int>&, bool, int);
+                                            const std::vector<int>&, bool, int,
+                                            const std::vector<double>&);
 template std::vector<int> compute_owners<3>(const CellGrid<3>&, const std::vector<std::int64_t>&,
-                                            const std::vector<int>&, bool, int);
+                                            const std::vector<int>&, bool, int,
+                                            const std::vector<double>&);
+
+std::vector<double> usable_seconds_per_work(std::vector<double> seconds) {
+  std::vector<double> measured;
+  for (double s : seconds)
+    if (std::isfinite(s) && s > 0) measured.push_back(s);
+  double median = 1.0;
+  if (!measured.empty()) {
+    std::sort(measured.begin(), measured.end());
+    const std::size_t m = measured.size() / 2;
+    median = measured.size() % 2 == 1 ? measured[m] : 0.5 * (measured[m - 1] + measured[m]);
+  }
+  for (double& s : seconds) {
+    s = std::isfinite(s) && s > 0 ? std::clamp(s, median / kMaxTimeFactor, median * kMaxTimeFactor)
+                                  : median;
+  }
+  return seconds;
+}
+
+double time_imbalance(const std::vector<std::int64_t>& work, const std::vector<int>& owner,
+                      const std::vector<double>& seconds) {
+  std::vector<double> t(seconds.size(), 0.0);
+  for (std::size_t c = 0; c < work.size(); ++c) {
+    const auto r = static_cast<std::size_t>(owner[c]);
+    t[r] += seconds[r] * static_cast<double>(work[c]);
+  }
+  const double total = std::accumulate(t.begin(), t.end(), 0.0);
+  if (!(total > 0)) return 0.0;
+  return *std::max_element(t.begin(), t.end()) * static_cast<double>(t.size()) / total - 1.0;
+}
+
+template <int D>
+std::vector<int> owners_for_times(const CellGrid<D>& grid, const std::vector<std::int64_t>& work,
+                                  const std::vector<int>& old, const std::vector<double>& seconds) {
+  const int parts = static_cast<int>(seconds.size());
+  const auto p_count = static_cast<std::size_t>(parts);
+  // Part p sized for rank rank_of[p]: its share of the work is that rank's
+  // share of the speed.
+  const auto targets = [&](const std::vector<int>& rank_of) {
+    std::vector<double> t(p_count);
+    for (std::size_t p = 0; p < p_count; ++p)
+      t[p] = 1.0 / seconds[static_cast<std::size_t>(rank_of[p])];
+    return t;
+  };
+  const auto assign = [](const std::vector<int>& part, const std::vector<int>& rank_of) {
+    std::vector<int> out(part.size());
+    for (std::size_t c = 0; c < part.size(); ++c)
+      out[c] = rank_of[static_cast<std::size_t>(part[c])];
+    return out;
+  };
+  // Which rank the relabelling gives each part of `part` (METIS's numbering).
+  const auto relabelled = [&](const std::vector<int>& part, std::vector<int>& rank_of) {
+    const std::vector<int> owner = relabel_parts(old, part, work, parts);
+    rank_of.assign(p_count, 0);
+    for (std::size_t c = 0; c < part.size(); ++c)
+      rank_of[static_cast<std::size_t>(part[c])] = owner[c];
+    return owner;
+  };
+  std::vector<std::vector<int>> candidates;
+  // The model's parts, relabelled; METIS numbers its parts alike for nearby
+  // targets, so the next round sizes each part for the rank this one gave it,
+  // until the relabelling agrees with the sizing (a few rounds at most).
+  std::vector<int> rank_of;
+  candidates.push_back(relabelled(compute_owners<D>(grid, work, old, false, parts), rank_of));
+  for (int round = 0; round < 3; ++round) {
+    const std::vector<int> part =
+        compute_owners<D>(grid, work, old, false, parts, targets(rank_of));
+    candidates.push_back(assign(part, rank_of));  // as sized
+    std::vector<int> next;
+    candidates.push_back(relabelled(part, next));  // as the overlap says
+    if (next == rank_of) break;
+    rank_of = next;
+  }
+  // Part r sized for rank r whatever it overlaps: balanced, most work moves.
+  std::vector<int> identity(p_count);
+  std::iota(identity.begin(), identity.end(), 0);
+  candidates.push_back(compute_owners<D>(grid, work, old, false, parts, targets(identity)));
+  // The lowest predicted imbalance; within kImbalanceMargin of it, the one
+  // that moves the least work.
+  std::vector<double> imbalance;
+  for (const std::vector<int>& o : candidates)
+    imbalance.push_back(time_imbalance(work, o, seconds));
+  const double best = *std::min_element(imbalance.begin(), imbalance.end());
+  std::size_t chosen = 0;
+  std::int64_t least = std::numeric_limits<std::int64_t>::max();
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (imbalance[k] > best + kImbalanceMargin) continue;
+    std::int64_t moved = 0;
+    for (std::size_t c = 0; c < work.size(); ++c)
+      if (candidates[k][c] != old[c]) moved += work[c];
+    if (moved < least) {
+      least = moved;
+      chosen = k;
+    }
+  }
+  return candidates[chosen];
+}
+
+template std::vector<int> owners_for_times<2>(const CellGrid<2>&, const std::vector<std::int64_t>&,
+                                              const std::vector<int>&, const std::vector<double>&);
+template std::vector<int> owners_for_times<3>(const CellGrid<3>&, const std::vector<std::int64_t>&,
+                                              const std::vector<int>&, const std::vector<double>&);
 
 }  // namespace detail
 
@@ -339,6 +450,16 @@ double owner_imbalance(const std::vector<std::int64_t>& work, const std::vector<
 template <int D>
 double Decomposition<D>::partition(const std::vector<std::int64_t>& work, bool replicated) {
   if (comm_.size() == 1) return 0.0;
+  return partition_on_root(work, replicated, [&](const std::vector<std::int64_t>& total) {
+    owner_ = detail::compute_owners(blocks_, total, owner_, partitioned_, comm_.size());
+    return detail::owner_imbalance(total, owner_, comm_.size());
+  });
+}
+
+template <int D>
+template <class OnRoot>
+double Decomposition<D>::partition_on_root(const std::vector<std::int64_t>& work, bool replicated,
+                                           OnRoot&& on_root) {
   // Only rank 0 needs the sum: the others keep no copy of the vector.
   std::vector<std::int64_t> total;
   const int count = static_cast<int>(work.size());
@@ -355,8 +476,7 @@ double Decomposition<D>::partition(const std::vector<std::int64_t>& work, bool r
   double result[2] = {0.0, 0.0};  // failed, imbalance of the new map
   if (comm_.root()) {
     try {
-      owner_ = detail::compute_owners(blocks_, total, owner_, partitioned_, comm_.size());
-      result[1] = detail::owner_imbalance(total, owner_, comm_.size());
+      result[1] = on_root(total);
     } catch (const std::exception& e) {
       error = e.what();
       result[0] = 1.0;
@@ -385,6 +505,31 @@ double Decomposition<D>::imbalance(const std::vector<std::int64_t>& work) const 
   const std::int64_t most = comm_.max(mine), all = comm_.sum(mine);
   if (all == 0) return 0.0;
   return static_cast<double>(most) * comm_.size() / static_cast<double>(all) - 1.0;
+}
+
+template <int D>
+double Decomposition<D>::time_imbalance(double busy_seconds) const {
+  const double busy = std::isfinite(busy_seconds) ? std::max(0.0, busy_seconds) : 0.0;
+  const double most = comm_.max(busy), total = comm_.sum(busy);
+  if (!(total > 0)) return 0.0;
+  return most * comm_.size() / total - 1.0;
+}
+
+template <int D>
+double Decomposition<D>::partition_by_time(const std::vector<std::int64_t>& work,
+                                           double busy_seconds) {
+  if (comm_.size() == 1) return 0.0;
+  const std::int64_t mine = std::accumulate(work.begin(), work.end(), std::int64_t{0});
+  const double seconds =
+      mine > 0 ? busy_seconds / static_cast<double>(mine) : std::nan("");  // NaN: not measured
+  std::vector<double> all(comm_.root() ? static_cast<std::size_t>(comm_.size()) : 0);
+  MPI_Gather(&seconds, 1, MPI_DOUBLE, comm_.root() ? all.data() : nullptr, 1, MPI_DOUBLE, 0,
+             comm_.raw());
+  return partition_on_root(work, false, [&](const std::vector<std::int64_t>& total) {
+    const std::vector<double> s = detail::usable_seconds_per_work(all);
+    owner_ = detail::owners_for_times(blocks_, total, owner_, s);
+    return detail::time_imbalance(total, owner_, s);
+  });
 }
 
 template class CellGrid<2>;

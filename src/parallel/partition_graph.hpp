@@ -30,8 +30,10 @@ Graph induced_graph(const std::vector<long>& cells, const CellNeighbors& neighbo
 // parts (weights scaled down if their sum would overflow METIS's 32-bit
 // integers). Fewer vertices than parts: vertex v goes to part v. Throws
 // std::runtime_error when METIS fails.
-std::vector<int> partition_graph(const Graph& g, const std::vector<std::int64_t>& weight,
-                                 int parts);
+// `targets`: each part's fraction of the total weight (METIS's tpwgts,
+// summing to 1); empty: equal parts.
+std::vector<int> partition_graph(const Graph& g, const std::vector<std::int64_t>& weight, int parts,
+                                 const std::vector<double>& targets = {});
 
 // Owners for every cell: `owner` holds the part of the partitioned cells and
 // -1 elsewhere; a breadth-first search from the partitioned cells (in cell
@@ -53,7 +55,34 @@ std::vector<int> relabel_parts(const std::vector<int>& old, const std::vector<in
 // rank count, not with the case.
 template <int D>
 std::vector<int> compute_owners(const CellGrid<D>& grid, const std::vector<std::int64_t>& work,
-                                const std::vector<int>& old, bool relabel, int parts);
+                                const std::vector<int>& old, bool relabel, int parts,
+                                const std::vector<double>& targets = {});
+
+// Balancing measured time (parallel.balance_weight: time; docs/parallel.md).
+// Each rank's seconds per unit of work as measured (not a positive finite
+// number: nothing measured), made usable: an unmeasured rank takes the
+// median of the measured ones (1 when none is), and each is kept within a
+// factor kMaxTimeFactor of that median (one stalled interval must not
+// empty a rank, nor one outlier move the others).
+inline constexpr double kMaxTimeFactor = 3.0;
+std::vector<double> usable_seconds_per_work(std::vector<double> seconds);
+
+// max / mean - 1 of the predicted times: rank r takes seconds[r] per unit
+// of the work of the cells it owns; 0 without work.
+double time_imbalance(const std::vector<std::int64_t>& work, const std::vector<int>& owner,
+                      const std::vector<double>& seconds);
+
+// The owners that balance the predicted times, all partitions of the
+// model's work by METIS. Candidates: the model's equal parts relabelled to
+// `old`; parts sized by the speeds (1 / seconds) of the ranks the
+// relabelling gave them, assigned as sized and as relabelled (up to three
+// rounds, until the two agree); parts sized for rank r taken by rank r
+// whatever they overlap. Among those within kImbalanceMargin of the lowest
+// predicted time imbalance, the one that moves the least work.
+inline constexpr double kImbalanceMargin = 0.02;
+template <int D>
+std::vector<int> owners_for_times(const CellGrid<D>& grid, const std::vector<std::int64_t>& work,
+                                  const std::vector<int>& old, const std::vector<double>& seconds);
 
 // max / mean - 1 of the work per part when cell c (work[c]) goes to part
 // owner[c]; 0 without work.

@@ -80,6 +80,7 @@ ResinModule<D>::ResinModule(const RunContext<D>& ctx)
   last_imbalance_ = dec_.imbalance(ps_);
   set_wall_velocities(0.0);
   rebuild(/*restart=*/false);
+  busy_since_last_check();  // the first interval starts with the steps
 }
 
 template <int D>
@@ -123,24 +124,39 @@ void ResinModule<D>::maybe_rebalance() {
   const int every = case_.parallel.balance_every;
   const std::int64_t step = ctx_.clock.step;
   if (every <= 0 || step - last_balance_step_ < every) return;
+  const bool by_time = case_.parallel.balance_weight == BalanceWeight::Time;
+  const double busy = busy_since_last_check();  // before this phase starts
   ScopedPhase t(timers_, Phase::Rebalance);
   last_balance_step_ = step;
   const std::vector<std::int64_t> work = cell_work();
-  const double before = dec_.imbalance(work);
+  const double before = by_time ? dec_.time_imbalance(busy) : dec_.imbalance(work);
   last_imbalance_ = before;
   if (!(before > case_.parallel.imbalance_threshold)) return;
-  last_imbalance_ = dec_.partition(work, /*replicated=*/false);
+  last_imbalance_ =
+      by_time ? dec_.partition_by_time(work, busy) : dec_.partition(work, /*replicated=*/false);
   const MigrationCounts moved = migrate<D>(dec_, ps_);
   ++repartitions_;
   const std::int64_t total_moved = comm_.sum(static_cast<std::int64_t>(moved.sent));
   std::ostream* log = ctx_.options.log;
   if (log && comm_.root()) {
     *log << fmt::format(
-                "step {}: re-partitioned over {} ranks: imbalance {:.1f} % -> {:.1f} %, {} "
+                "step {}: re-partitioned over {} ranks{}: imbalance {:.1f} % -> {:.1f} %, {} "
                 "particles moved\n",
-                step, comm_.size(), 100 * before, 100 * last_imbalance_, total_moved)
+                step, comm_.size(), by_time ? " by measured time" : "", 100 * before,
+                100 * last_imbalance_, total_moved)
          << std::flush;
   }
+}
+
+template <int D>
+double ResinModule<D>::busy_since_last_check() {
+  const auto now = std::chrono::steady_clock::now();
+  const double idle = timers_.idle_seconds();
+  const double busy =
+      std::chrono::duration<double>(now - balance_clock_).count() - (idle - balance_idle_);
+  balance_clock_ = now;
+  balance_idle_ = idle;
+  return busy;
 }
 
 // Work per cell of this rank's particles: the resin's (decomposition.hpp)

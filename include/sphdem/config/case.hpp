@@ -220,11 +220,17 @@ struct Output {
   bool front_events = false;
 };
 
+// What the imbalance check and a re-partition balance (docs/parallel.md,
+// "Balancing measured time"): the work model's counts, or the compute time
+// each rank measured (parts sized by each rank's seconds per unit of work).
+enum class BalanceWeight { Model, Time };
+
 // Dynamic load balancing (docs/parallel.md).
 struct ParallelSettings {
   int balance_every = 100;            // steps between imbalance checks, 0: never re-partition
   double imbalance_threshold = 0.10;  // re-partition past max/mean - 1 of the per-rank work
-  int min_top_cells = 1 << 20;        // top-level cells: at most max(per rank x ranks, this)
+  BalanceWeight balance_weight = BalanceWeight::Model;
+  int min_top_cells = 1 << 20;  // top-level cells: at most max(per rank x ranks, this)
   int top_cells_per_rank = 64;
 };
 

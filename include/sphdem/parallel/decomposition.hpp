@@ -161,6 +161,18 @@ class Decomposition {
   // sum over ranks of that single number, never of the vector.
   double imbalance(const std::vector<std::int64_t>& work) const;
 
+  // Collective (parallel.balance_weight: time; docs/parallel.md, "Balancing
+  // measured time"): max over ranks of `busy_seconds` (this rank's compute
+  // time since the last check) divided by the mean, minus 1 (0 on one rank).
+  double time_imbalance(double busy_seconds) const;
+  // Collective. A new map that balances the times the ranks' work is
+  // predicted to take: this rank's seconds per unit of work, busy_seconds
+  // over its total of `work` (this rank's work per block), is gathered to
+  // rank 0, which chooses among METIS partitions of the summed work
+  // (detail::owners_for_times). Returns the predicted time imbalance of the
+  // new map.
+  double partition_by_time(const std::vector<std::int64_t>& work, double busy_seconds);
+
   // Drops the owned particles (SPH or DEM) that lie in other ranks' cells
   // (no communication: the start, when every rank holds every particle).
   template <class P>
@@ -175,6 +187,13 @@ class Decomposition {
   }
 
  private:
+  // Sums `work` onto rank 0 (unless `replicated`), where on_root(total)
+  // sets owner_ and returns the new map's imbalance; broadcasts both (an
+  // error on rank 0 reaches every rank).
+  template <class OnRoot>
+  double partition_on_root(const std::vector<std::int64_t>& work, bool replicated,
+                           OnRoot&& on_root);
+
   Comm comm_;
   CellGrid<D> grid_;
   long edge_ = 1;

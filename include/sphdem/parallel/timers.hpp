@@ -27,8 +27,21 @@ class PhaseTimers {
  public:
   using Clock = std::chrono::steady_clock;
 
-  void reset() { *this = PhaseTimers{}; }
-  void add(Phase p, double seconds) { seconds_[static_cast<std::size_t>(p)] += seconds; }
+  // Zeroes the phases of a run; idle_seconds() keeps counting.
+  void reset() { seconds_ = {}; }
+  void add(Phase p, double seconds) {
+    seconds_[static_cast<std::size_t>(p)] += seconds;
+    if (idle(p)) idle_ += seconds;
+  }
+  // Halo, migration, rebalance, I/O and wait: time a rank spends on other
+  // than its own particles' work (waiting for other ranks mostly). The
+  // total since construction, across reset(): the balance by measured time
+  // takes its busy time as wall time minus this (docs/parallel.md,
+  // "Balancing measured time").
+  static bool idle(Phase p) {
+    return p != Phase::Compute && p != Phase::Dem && p != Phase::Coupling;
+  }
+  double idle_seconds() const { return idle_; }
   // Measured phases; Compute is derived by split() from the total.
   double measured(Phase p) const { return seconds_[static_cast<std::size_t>(p)]; }
   // The phases of a run that took `total` seconds: compute = total - the others.
@@ -36,6 +49,7 @@ class PhaseTimers {
 
  private:
   std::array<double, kPhaseCount> seconds_{};
+  double idle_ = 0;
 };
 
 // Adds the time from construction to destruction to one phase.

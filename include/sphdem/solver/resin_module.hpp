@@ -8,6 +8,7 @@
 //   v = v_h + dt/2 a',  rho = rho_h + dt/2 drho'
 // Only one neighbor pass per step (plus the wall extrapolation). Its
 // decomposition also carries the fibers of a coupled run.
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -76,6 +77,10 @@ class ResinModule final : public Module<D> {
 
  private:
   void maybe_rebalance();
+  // parallel.balance_weight: time: this rank's busy seconds (wall time less
+  // the idle phases, PhaseTimers::idle) since the last call, which starts
+  // the next interval.
+  double busy_since_last_check();
   std::vector<double> face_means(const std::vector<WallFaceSample>& face);
   void set_wall_velocities(double t);
   void write_front_events(bool pockets);
@@ -97,6 +102,9 @@ class ResinModule final : public Module<D> {
   std::int64_t last_balance_step_ = 0;
   double last_imbalance_ = 0;
   std::int64_t repartitions_ = 0;
+  // Where the busy interval of the next check starts (busy_since_last_check).
+  std::chrono::steady_clock::time_point balance_clock_ = std::chrono::steady_clock::now();
+  double balance_idle_ = 0;
   bool pressure_series_started_ = false;  // the injection pressure CSV of this run
   std::size_t face_capacity_ = 0;         // face terms per rank gathered in one call (face_means)
   // Weld lines flagged since the last collect_front_events: per particle
