@@ -625,6 +625,16 @@ TEST(Config, PeriodicAxisMustExist) {
                "periodic[0]", "unknown value 'z' (expected one of: x, y)");
 }
 
+TEST(Config, BalanceWeightIsModelOrTime) {
+  EXPECT_EQ(load_case_from_string(std::string(kMinimal), "c.yaml").parallel.balance_weight,
+            BalanceWeight::Model);
+  EXPECT_EQ(load_case_from_string(append(kMinimal, "parallel: {balance_weight: time}\n"), "c.yaml")
+                .parallel.balance_weight,
+            BalanceWeight::Time);
+  expect_error(append(kMinimal, "parallel:\n  balance_weight: speed\n"), 15,
+               "parallel.balance_weight", "unknown value 'speed' (expected one of: model, time)");
+}
+
 TEST(Config, UnknownOutputField) {
   expect_error(append(kMinimal, "output:\n  fields: [velocty]\n"), 15, "output.fields[0]",
                "unknown value 'velocty' (did you mean 'velocity'?)");
