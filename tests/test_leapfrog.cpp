@@ -2,9 +2,13 @@
 // AVX-512 they take eight particles at a time; every particle must get the
 // bits of the one-particle form, whatever the mix of resin, wall and frozen
 // particles in its group of eight and the tail after the last whole group;
-// and the one-particle form is the scheme of docs/physics.md by hand.
+// the one-particle form is the scheme of docs/physics.md by hand; and the
+// passes that also run the rebuild check and the time step's maxima give
+// what the separate passes give (docs/performance.md, "The streaming
+// passes").
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
 
@@ -96,6 +100,100 @@ TEST(Leapfrog, EightParticlesAtATimeGiveTheBitsOfOneAtATime2D) {
 
 TEST(Leapfrog, EightParticlesAtATimeGiveTheBitsOfOneAtATime3D) {
   eight_at_a_time_equals_one_at_a_time<3>();
+}
+
+// The drift with the rebuild check: the same fields as kick_drift_resin and
+// the verdict of needs_rebuild after it, for particles moved by the drift
+// and for particles moved by hand since the build (a wall in a group with
+// no resin, the tail after the last whole group), both verdicts reached.
+template <int D>
+void drift_and_check_equals_drift_then_check() {
+  int moved = 0, still = 0;
+  for (const std::size_t n : {std::size_t{5}, std::size_t{64}, std::size_t{203}}) {
+    for (const bool frozen : {false, true}) {
+      SphParticles<D> start = cloud<D>(n, static_cast<unsigned>(n) + 7, frozen);
+      for (std::size_t i = 8; i < 16 && i < n; ++i) start.kind[i] = Kind::Wall;
+      NeighborList<D> nl(0.3, 0.04);  // moves beyond about 0.02 call for a rebuild
+      nl.build(start);
+      // dt 1e-3: nobody moves far enough; 0.01 and more: fast particles do.
+      for (const double dt : {1e-3, 0.01, 0.02, 0.05}) {
+        // -1: as built; else that particle moved by hand (0.03) first.
+        for (const std::size_t shifted : {std::size_t(-1), std::size_t{12}, n - 1}) {
+          if (shifted != std::size_t(-1) && shifted >= n) continue;
+          SCOPED_TRACE(testing::Message() << "n " << n << " frozen " << frozen << " dt " << dt
+                                          << " shifted " << static_cast<long>(shifted));
+          SphParticles<D> fused = start;
+          if (shifted != std::size_t(-1)) fused.x[shifted][0] += 0.03;
+          SphParticles<D> apart = fused;
+          const bool verdict = kick_drift_resin_and_check<D>(fused, dt, nl);
+          kick_drift_resin<D>(apart, dt);
+          EXPECT_EQ(verdict, nl.needs_rebuild(apart));
+          expect_same_bits(fused, apart);
+          (verdict ? moved : still)++;
+        }
+      }
+    }
+  }
+  EXPECT_GT(moved, 10);
+  EXPECT_GT(still, 3);
+  // Lists of another particle count: needs_rebuild's answer (rebuild).
+  SphParticles<D> other = cloud<D>(9, 3, false);
+  NeighborList<D> nl(0.3, 0.04);
+  nl.build(other);
+  other.push_owned(9, Kind::Fluid, -1, 1.0, Vec<D>::Zero(), Vec<D>::Zero(), 1000.0);
+  EXPECT_TRUE(kick_drift_resin_and_check<D>(other, 1e-9, nl));
+}
+
+TEST(Leapfrog, DriftWithTheRebuildCheckGivesNeedsRebuildsVerdict2D) {
+  drift_and_check_equals_drift_then_check<2>();
+}
+
+TEST(Leapfrog, DriftWithTheRebuildCheckGivesNeedsRebuildsVerdict3D) {
+  drift_and_check_equals_drift_then_check<3>();
+}
+
+// The second kick with the maxima: the same fields as kick_resin and the
+// bits of local_extremes after it, with walls, frozen resin, a viscosity
+// field, the tail, and a NaN acceleration (which no maximum takes).
+template <int D>
+void kick_and_extremes_equals_kick_then_extremes() {
+  for (const std::size_t n : {std::size_t{5}, std::size_t{64}, std::size_t{203}}) {
+    for (const bool frozen : {false, true}) {
+      for (const bool density : {false, true}) {
+        SCOPED_TRACE(testing::Message()
+                     << "n " << n << " frozen " << frozen << " density " << density);
+        SphParticles<D> fused = cloud<D>(n, static_cast<unsigned>(n) + 11, frozen);
+        fused.viscosity.assign(n, 0.0);
+        for (std::size_t i = 0; i < n; ++i) fused.viscosity[i] = 0.1 + 1e-3 * fused.rho_half[i];
+        // The fastest wall and the largest acceleration sit in the tail.
+        fused.v[n - 1] = Vec<D>::Constant(40.0);
+        fused.kind[n - 1] = Kind::Wall;
+        fused.a[n - 2] = Vec<D>::Constant(5e4);
+        if (!fused.frozen.empty()) fused.frozen[n - 2] = 0;
+        fused.kind[n - 2] = Kind::Fluid;
+        fused.a[0][0] = std::nan("");
+        SphParticles<D> apart = fused;
+        const LocalExtremes got = kick_resin_and_extremes<D>(fused, 1.3e-5, density, true);
+        kick_resin<D>(apart, 1.3e-5, density, true);
+        const LocalExtremes want = local_extremes<D>(apart);
+        expect_same_bits(fused, apart);
+        EXPECT_TRUE(same_bits(got.v_max, want.v_max)) << got.v_max << " " << want.v_max;
+        EXPECT_TRUE(same_bits(got.a_max, want.a_max)) << got.a_max << " " << want.a_max;
+        EXPECT_TRUE(same_bits(got.mu_max, want.mu_max)) << got.mu_max << " " << want.mu_max;
+        EXPECT_DOUBLE_EQ(got.v_max, 40.0 * std::sqrt(static_cast<double>(D)));
+        EXPECT_GE(got.a_max, 5e4 * std::sqrt(static_cast<double>(D)));
+        EXPECT_GT(got.mu_max, 1.0);
+      }
+    }
+  }
+}
+
+TEST(Leapfrog, KickWithTheMaximaGivesLocalExtremes2D) {
+  kick_and_extremes_equals_kick_then_extremes<2>();
+}
+
+TEST(Leapfrog, KickWithTheMaximaGivesLocalExtremes3D) {
+  kick_and_extremes_equals_kick_then_extremes<3>();
 }
 
 // By hand: v_half = v + dt/2 a, x += dt v_half, v = v_half + dt/2 a (the

@@ -423,37 +423,19 @@ void NeighborList<D>::store_mixed() {
 // both forms (the one GCC gave the scalar loop), so the verdict does not
 // depend on the form.
 template <int D>
+bool NeighborList<D>::beyond_own_limit(std::size_t i, double d2) const {
+  double size = 0.0;
+  for (int k = 0; k < D; ++k) size += std::abs(static_cast<double>(x_at_build_[i][k]));
+  const double limit = 0.5 * skin_ - (kRoundingRelative * size + D * kRoundingTiny);
+  return limit <= 0.0 || d2 > limit * limit;
+}
+
+template <int D>
 bool NeighborList<D>::needs_rebuild(const SphParticles<D>& ps) const {
   if (x_at_build_.size() != ps.n_owned) return true;
-  const double half_skin = 0.5 * skin_;
-  const auto beyond_own_limit = [&](std::size_t i, double d2) {
-    double size = 0.0;
-    for (int k = 0; k < D; ++k) size += std::abs(static_cast<double>(x_at_build_[i][k]));
-    const double limit = half_skin - (kRoundingRelative * size + D * kRoundingTiny);
-    return limit <= 0.0 || d2 > limit * limit;
-  };
 #if defined(SPHDEM_PARTICLE_LANES)
-  // Eight particles at a time for the quick limit; the few beyond it one at a time.
-  const __m512d quick = _mm512_set1_pd(quick_limit2_);
-  for (std::size_t i = 0; i < ps.n_owned; i += 8) {
-    const __mmask8 valid = lanes::first(ps.n_owned - i);
-    __m512d now[D], then[D];
-    lanes::load_vectors<D>(ps.x.data()->data(), i, valid, now);
-    lanes::load_vectors<D>(x_at_build_.data()->data(), i, valid, then);
-    __m512d d2 = _mm512_setzero_pd();
-    for (int k = 0; k < D; ++k) {
-      const __m512d d = _mm512_sub_pd(lanes::component<D>(now, k), lanes::component<D>(then, k));
-      d2 = k == 0 ? lanes::mul(d, d) : _mm512_fmadd_pd(d, d, d2);
-    }
-    __mmask8 far = _mm512_mask_cmp_pd_mask(valid, d2, quick, _CMP_NLE_UQ);
-    if (far == 0) continue;
-    alignas(64) double each[8];
-    _mm512_store_pd(each, d2);
-    for (; far != 0; far &= static_cast<__mmask8>(far - 1)) {
-      const int l = __builtin_ctz(far);
-      if (beyond_own_limit(i + static_cast<std::size_t>(l), each[l])) return true;
-    }
-  }
+  for (std::size_t i = 0; i < ps.n_owned; i += 8)
+    if (moved_too_far(ps.x.data()->data(), i, lanes::first(ps.n_owned - i))) return true;
   return false;
 #else
   for (std::size_t i = 0; i < ps.n_owned; ++i) {

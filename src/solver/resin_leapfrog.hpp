@@ -11,8 +11,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "sphdem/neighbor/neighbor.hpp"
 #include "sphdem/particles/particle_lanes.hpp"
 #include "sphdem/particles/particles.hpp"
+#include "sphdem/sph/extreme_lanes.hpp"
 
 namespace sphdem {
 
@@ -113,6 +115,35 @@ std::size_t resin_groups(const Arrays<D>& p, Group&& group) {
 
 }  // namespace leapfrog_detail
 
+#if defined(SPHDEM_PARTICLE_LANES)
+namespace leapfrog_detail {
+
+// The first kick and the drift of the resin among particles i .. i + 7
+// (bits of `fluid`, `frozen` of them frozen).
+template <int D>
+[[gnu::always_inline]] inline void kick_drift_group(const Arrays<D>& p, std::size_t i,
+                                                    __mmask8 fluid, __mmask8 frozen) {
+  const __m512d h = _mm512_set1_pd(p.half), t = _mm512_set1_pd(p.dt);
+  for (int q = 0; q < D; ++q) {
+    const std::size_t k = D * i + 8 * static_cast<std::size_t>(q);
+    const __mmask8 m = lanes::vector_mask<D>(fluid, q);
+    const __m512d a = _mm512_maskz_loadu_pd(m, p.a + k);
+    const __m512d vh =
+        _mm512_maskz_mov_pd(static_cast<__mmask8>(~lanes::vector_mask<D>(frozen, q)),
+                            _mm512_fmadd_pd(h, a, _mm512_maskz_loadu_pd(m, p.v + k)));
+    _mm512_mask_storeu_pd(p.v_half + k, m, vh);
+    _mm512_mask_storeu_pd(p.x + k, m, _mm512_fmadd_pd(t, vh, _mm512_maskz_loadu_pd(m, p.x + k)));
+    _mm512_mask_storeu_pd(p.v + k, m, _mm512_fmadd_pd(h, a, vh));
+  }
+  const __m512d drho = _mm512_maskz_loadu_pd(fluid, p.drho + i);
+  const __m512d rh = _mm512_fmadd_pd(h, drho, _mm512_maskz_loadu_pd(fluid, p.rho + i));
+  _mm512_mask_storeu_pd(p.rho_half + i, fluid, rh);
+  _mm512_mask_storeu_pd(p.rho + i, fluid, _mm512_fmadd_pd(h, drho, rh));
+}
+
+}  // namespace leapfrog_detail
+#endif
+
 // The first kick of the velocity and the density and the drift of the
 // owned resin particles; a frozen particle (resin.thermal) keeps its
 // position at zero velocity.
@@ -122,27 +153,76 @@ void kick_drift_resin(SphParticles<D>& ps, double dt) {
   const Arrays<D> p = arrays(ps, dt, false);
   std::size_t at = 0;  // the first particle left to the one-particle form
 #if defined(SPHDEM_PARTICLE_LANES)
-  const __m512d h = _mm512_set1_pd(p.half), t = _mm512_set1_pd(dt);
   at = resin_groups<D>(p, [&](std::size_t i, __mmask8 fluid, __mmask8 frozen) {
-    for (int q = 0; q < D; ++q) {
-      const std::size_t k = D * i + 8 * static_cast<std::size_t>(q);
-      const __mmask8 m = lanes::vector_mask<D>(fluid, q);
-      const __m512d a = _mm512_maskz_loadu_pd(m, p.a + k);
-      const __m512d vh =
-          _mm512_maskz_mov_pd(static_cast<__mmask8>(~lanes::vector_mask<D>(frozen, q)),
-                              _mm512_fmadd_pd(h, a, _mm512_maskz_loadu_pd(m, p.v + k)));
-      _mm512_mask_storeu_pd(p.v_half + k, m, vh);
-      _mm512_mask_storeu_pd(p.x + k, m, _mm512_fmadd_pd(t, vh, _mm512_maskz_loadu_pd(m, p.x + k)));
-      _mm512_mask_storeu_pd(p.v + k, m, _mm512_fmadd_pd(h, a, vh));
-    }
-    const __m512d drho = _mm512_maskz_loadu_pd(fluid, p.drho + i);
-    const __m512d rh = _mm512_fmadd_pd(h, drho, _mm512_maskz_loadu_pd(fluid, p.rho + i));
-    _mm512_mask_storeu_pd(p.rho_half + i, fluid, rh);
-    _mm512_mask_storeu_pd(p.rho + i, fluid, _mm512_fmadd_pd(h, drho, rh));
+    kick_drift_group<D>(p, i, fluid, frozen);
   });
 #endif
   for (; at < p.n; ++at) kick_drift_one<D>(p, at);
 }
+
+// kick_drift_resin, then nl.needs_rebuild(ps): with AVX-512 the check of
+// every owned particle runs on the positions just written, group by group
+// while they are in cache (the same test, NeighborList::moved_too_far), so
+// the step reads the positions once for both.
+template <int D>
+bool kick_drift_resin_and_check(SphParticles<D>& ps, double dt, const NeighborList<D>& nl) {
+#if defined(SPHDEM_PARTICLE_LANES)
+  using namespace leapfrog_detail;
+  if (nl.positions_at_build() != ps.n_owned) {  // needs_rebuild's first answer
+    kick_drift_resin<D>(ps, dt);
+    return true;
+  }
+  const Arrays<D> p = arrays(ps, dt, false);
+  bool moved = false;
+  std::size_t i = 0;
+  for (; i + 8 <= p.n; i += 8) {
+    const __mmask8 fluid = lanes::resin(p.kind, i);
+    if (fluid != 0)
+      kick_drift_group<D>(p, i, fluid,
+                          p.frozen != nullptr ? lanes::set(p.frozen, i) & fluid : __mmask8{0});
+    moved = moved || nl.moved_too_far(p.x, i, lanes::first(8));
+  }
+  if (i < p.n) {
+    for (std::size_t j = i; j < p.n; ++j) kick_drift_one<D>(p, j);
+    moved = moved || nl.moved_too_far(p.x, i, lanes::first(p.n - i));
+  }
+  return moved;
+#else
+  kick_drift_resin<D>(ps, dt);
+  return nl.needs_rebuild(ps);
+#endif
+}
+
+#if defined(SPHDEM_PARTICLE_LANES)
+namespace leapfrog_detail {
+
+// The second kick of the resin among particles i .. i + 7 (bits of
+// `fluid`, `frozen` of them frozen).
+template <int D>
+[[gnu::always_inline]] inline void kick_group(const Arrays<D>& p, std::size_t i, __mmask8 fluid,
+                                              __mmask8 frozen, bool density) {
+  const __m512d h = _mm512_set1_pd(p.half);
+  for (int q = 0; q < D; ++q) {
+    const std::size_t k = D * i + 8 * static_cast<std::size_t>(q);
+    const __mmask8 m = lanes::vector_mask<D>(fluid, q), still = lanes::vector_mask<D>(frozen, q);
+    if (still != 0) _mm512_mask_storeu_pd(p.a + k, still, _mm512_setzero_pd());
+    const __m512d a = _mm512_maskz_loadu_pd(m, p.a + k);
+    _mm512_mask_storeu_pd(p.v + k, m,
+                          _mm512_fmadd_pd(h, a, _mm512_maskz_loadu_pd(m, p.v_half + k)));
+  }
+  if (!density) return;
+  const __m512d rh = _mm512_maskz_loadu_pd(fluid, p.rho_half + i);
+  _mm512_mask_storeu_pd(p.rho + i, fluid,
+                        _mm512_fmadd_pd(h, _mm512_maskz_loadu_pd(fluid, p.drho + i), rh));
+  if (p.temperature != nullptr) {
+    const __m512d th = _mm512_maskz_loadu_pd(fluid, p.temp_half + i);
+    _mm512_mask_storeu_pd(p.temperature + i, fluid,
+                          _mm512_fmadd_pd(h, _mm512_maskz_loadu_pd(fluid, p.dtemp + i), th));
+  }
+}
+
+}  // namespace leapfrog_detail
+#endif
 
 // The second kick of the owned resin particles' velocities (a frozen
 // particle's acceleration is zeroed first) and, with `density`, of their
@@ -153,29 +233,41 @@ void kick_resin(SphParticles<D>& ps, double dt, bool density, bool thermal) {
   const Arrays<D> p = arrays(ps, dt, thermal);
   std::size_t at = 0;  // the first particle left to the one-particle form
 #if defined(SPHDEM_PARTICLE_LANES)
-  const __m512d h = _mm512_set1_pd(p.half);
   at = resin_groups<D>(p, [&](std::size_t i, __mmask8 fluid, __mmask8 frozen) {
-    for (int q = 0; q < D; ++q) {
-      const std::size_t k = D * i + 8 * static_cast<std::size_t>(q);
-      const __mmask8 m = lanes::vector_mask<D>(fluid, q), still = lanes::vector_mask<D>(frozen, q);
-      if (still != 0) _mm512_mask_storeu_pd(p.a + k, still, _mm512_setzero_pd());
-      const __m512d a = _mm512_maskz_loadu_pd(m, p.a + k);
-      _mm512_mask_storeu_pd(p.v + k, m,
-                            _mm512_fmadd_pd(h, a, _mm512_maskz_loadu_pd(m, p.v_half + k)));
-    }
-    if (density) {
-      const __m512d rh = _mm512_maskz_loadu_pd(fluid, p.rho_half + i);
-      _mm512_mask_storeu_pd(p.rho + i, fluid,
-                            _mm512_fmadd_pd(h, _mm512_maskz_loadu_pd(fluid, p.drho + i), rh));
-      if (p.temperature != nullptr) {
-        const __m512d th = _mm512_maskz_loadu_pd(fluid, p.temp_half + i);
-        _mm512_mask_storeu_pd(p.temperature + i, fluid,
-                              _mm512_fmadd_pd(h, _mm512_maskz_loadu_pd(fluid, p.dtemp + i), th));
-      }
-    }
+    kick_group<D>(p, i, fluid, frozen, density);
   });
 #endif
   for (; at < p.n; ++at) kick_one<D>(p, at, density);
+}
+
+// kick_resin, then local_extremes(ps): with AVX-512 the maxima of every
+// owned particle are taken on the velocities and accelerations just
+// written, group by group while they are in cache (the same operations,
+// ExtremeLanes), so the step reads them once for the kick and the next
+// step's time step (ResinModule::correct).
+template <int D>
+LocalExtremes kick_resin_and_extremes(SphParticles<D>& ps, double dt, bool density, bool thermal) {
+#if defined(SPHDEM_PARTICLE_LANES)
+  using namespace leapfrog_detail;
+  const Arrays<D> p = arrays(ps, dt, thermal);
+  ExtremeLanes<D> ex;
+  std::size_t i = 0;
+  for (; i + 8 <= p.n; i += 8) {
+    const __mmask8 fluid = lanes::resin(p.kind, i);
+    if (fluid != 0)
+      kick_group<D>(p, i, fluid,
+                    p.frozen != nullptr ? lanes::set(p.frozen, i) & fluid : __mmask8{0}, density);
+    ex.add(ps, i, lanes::first(8));
+  }
+  if (i < p.n) {
+    for (std::size_t j = i; j < p.n; ++j) kick_one<D>(p, j, density);
+    ex.add(ps, i, lanes::first(p.n - i));
+  }
+  return ex.result();
+#else
+  kick_resin<D>(ps, dt, density, thermal);
+  return local_extremes<D>(ps);
+#endif
 }
 
 // The density (and, with `thermal`, temperature) kick alone, after an

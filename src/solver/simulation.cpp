@@ -262,7 +262,11 @@ void ResinModule<D>::write_front_events(bool pockets) {
 
 template <int D>
 std::optional<TimeStep> ResinModule<D>::stable_dt() {
-  const LocalExtremes ex = local_extremes<D>(ps_);
+  // The maxima of the last second kick when it computed them (correct).
+  const LocalExtremes ex = extremes_at_kick_ && extremes_at_kick_->n_owned == ps_.n_owned
+                               ? extremes_at_kick_->maxima
+                               : local_extremes<D>(ps_);
+  extremes_at_kick_.reset();
   // One allreduce for the three largest values (a maximum is exact: the
   // same values as three reductions).
   std::array<double, 3> maxes{ex.v_max, ex.a_max, ex.mu_max};
@@ -307,7 +311,16 @@ void ResinModule<D>::predict(double dt) {
   }
   // Each particle's update reads only its own fields: the resin in one pass
   // (resin_leapfrog.hpp, eight at a time), the moving walls in another.
-  kick_drift_resin<D>(ps_, dt);
+  // Where no wall moves, the pass also runs the rebuild check (moved()) on
+  // the positions it writes (docs/performance.md, "The streaming passes").
+  // (A wall that does not move adds a zero displacement below: no change.)
+  moved_at_drift_.reset();
+  bool walls_move = false;
+  for (const WallMotion& w : walls_) walls_move = walls_move || w.moves;
+  if (walls_move)
+    kick_drift_resin<D>(ps_, dt);
+  else
+    moved_at_drift_ = kick_drift_resin_and_check<D>(ps_, dt, nl_);
   if (walls_.empty()) return;
   lanes::for_each_of_kind(ps_.kind.data(), ps_.n_owned, Kind::Wall, [&](std::size_t i) {
     if (ps_.wall[i] >= 0) ps_.x[i] += disp[static_cast<std::size_t>(ps_.wall[i])];
@@ -317,7 +330,8 @@ void ResinModule<D>::predict(double dt) {
 template <int D>
 bool ResinModule<D>::moved() {
   set_wall_velocities(ctx_.clock.time);
-  const bool moved = nl_.needs_rebuild(ps_);
+  const bool moved = moved_at_drift_ ? *moved_at_drift_ : nl_.needs_rebuild(ps_);
+  moved_at_drift_.reset();
   ScopedPhase t(timers_, Phase::Wait);
   return comm_.any(moved);
 }
@@ -328,7 +342,15 @@ void ResinModule<D>::correct(double dt) {
   // Without a solve between them, the two kicks in one pass
   // (resin_leapfrog.hpp, eight at a time).
   const bool solve = sp_.implicit_viscosity;
-  kick_resin<D>(ps_, dt, /*density=*/!solve, sp_.thermal);
+  extremes_at_kick_.reset();
+  // Without a solve nothing changes the velocities and accelerations before
+  // the next step's stable_dt: the kick's pass takes their maxima too.
+  if (solve) {
+    kick_resin<D>(ps_, dt, /*density=*/false, sp_.thermal);
+  } else {
+    extremes_at_kick_ = {kick_resin_and_extremes<D>(ps_, dt, /*density=*/true, sp_.thermal),
+                         ps_.n_owned};
+  }
   // Before the density kick: the solve reads the densities of the rates,
   // which the ghosts hold too (rank-count independence).
   if (solve) {

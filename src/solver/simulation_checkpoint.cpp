@@ -175,7 +175,9 @@ void ResinModule<D>::restarted() {
     ps_.v_half[i] = ps_.v[i];
   }
   last_imbalance_ = dec_.imbalance(ps_);
-  busy_since_last_check();  // the first interval starts with the steps
+  moved_at_drift_.reset();
+  extremes_at_kick_.reset();  // the positions and velocities changed above
+  busy_since_last_check();    // the first interval starts with the steps
   // The front events list continues after the checkpoint's time.
   if (case_.output.front_events && comm_.root() && ctx_.options.write_output)
     append_front_events(ctx_.options.output_dir, case_.name, ctx_.clock.time, {}, true);

@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "sphdem/particles/particle_lanes.hpp"
+#include "sphdem/sph/extreme_lanes.hpp"
 #include "sphdem/sph/sph.hpp"
 
 namespace sphdem {
@@ -153,37 +154,13 @@ __attribute__((optimize("fp-contract=off"))) LocalExtremes local_extremes_one_at
 template <int D>
 LocalExtremes local_extremes(const SphParticles<D>& ps) {
 #if defined(SPHDEM_PARTICLE_LANES)
-  const auto squared_norms = [](const __m512d(&r)[D]) {
-    const __m512d x = lanes::component<D>(r, 0), y = lanes::component<D>(r, 1);
-    __m512d n2 = lanes::add(lanes::mul(x, x), lanes::mul(y, y));  // not fused
-    if constexpr (D == 3) {
-      const __m512d z = lanes::component<D>(r, 2);
-      n2 = _mm512_fmadd_pd(z, z, n2);
-    }
-    return n2;
-  };
-  __m512d v2 = _mm512_setzero_pd(), a2 = v2, mu = v2;
-  const bool laws = !ps.viscosity.empty();
-  for (std::size_t i = 0; i < ps.n_owned; i += 8) {
-    const __mmask8 valid = lanes::first(ps.n_owned - i);
-    __m512d r[D];
-    lanes::load_vectors<D>(ps.v.data()->data(), i, valid, r);
-    v2 = lanes::max(squared_norms(r), v2);  // std::max(v2, .): a NaN keeps v2
-    __mmask8 moving = lanes::of_kind(ps.kind.data(), i, valid, Kind::Fluid);
-    if (!ps.frozen.empty())
-      moving &= static_cast<__mmask8>(~lanes::set(ps.frozen.data(), i, valid));
-    if (moving == 0) continue;
-    lanes::load_vectors<D>(ps.a.data()->data(), i, moving, r);
-    a2 = _mm512_mask_max_pd(a2, moving, squared_norms(r), a2);
-    if (laws)
-      mu = _mm512_mask_max_pd(mu, moving, _mm512_maskz_loadu_pd(moving, ps.viscosity.data() + i),
-                              mu);
-  }
-  const LocalExtremes squares{lanes::largest(v2), lanes::largest(a2), lanes::largest(mu)};
+  ExtremeLanes<D> ex;
+  for (std::size_t i = 0; i < ps.n_owned; i += 8) ex.add(ps, i, lanes::first(ps.n_owned - i));
+  return ex.result();
 #else
   const LocalExtremes squares = local_extremes_one_at_a_time<D>(ps);
-#endif
   return {std::sqrt(squares.v_max), std::sqrt(squares.a_max), squares.mu_max};
+#endif
 }
 
 bool any_slip_wall(const Case& c) {

@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "sphdem/particles/particle_lanes.hpp"
 #include "sphdem/particles/particles.hpp"
 
 namespace sphdem {
@@ -52,6 +53,12 @@ class NeighborList {
   // unlisted; a particle's verdict reads only its own values, the same at
   // every rank count.
   bool needs_rebuild(const SphParticles<D>& ps) const;
+  // needs_rebuild's test of owned particles i .. i + 7 (bits of `valid`;
+  // positions x, D doubles a particle): true when one moved too far. The
+  // drift runs it on the positions it has just written
+  // (kick_drift_resin_and_check), so the step does not read them again.
+  // Needs a build of the current owned particles; with AVX-512 only.
+  bool moved_too_far(const double* x, std::size_t i, std::uint8_t valid) const;
 
   std::size_t begin(std::size_t i) const { return offset_[i]; }
   std::size_t end(std::size_t i) const { return offset_[i + 1]; }
@@ -102,11 +109,38 @@ class NeighborList {
   // bound (the largest bound of the build taken off the half skin; -1: none).
   double quick_limit2_ = -1.0;
   std::int64_t builds_ = 0;
+  // Particle i's own test, for a squared move d2 beyond the quick limit.
+  bool beyond_own_limit(std::size_t i, double d2) const;
   // The cell grid's starts, kept to avoid reallocations (the binning's
   // per-particle scratch is shared with sort_by_cell: neighbor_list.cpp).
   std::vector<std::int32_t> cell_start_;
   std::vector<std::int32_t> cell_resin_end_;  // each cell's resin first, then its walls
 };
+
+#if defined(SPHDEM_PARTICLE_LANES)
+// Eight particles at a time for the quick limit; the few beyond it one at a time.
+template <int D>
+inline bool NeighborList<D>::moved_too_far(const double* x, std::size_t i,
+                                           std::uint8_t valid) const {
+  __m512d now[D], then[D];
+  lanes::load_vectors<D>(x, i, valid, now);
+  lanes::load_vectors<D>(x_at_build_.data()->data(), i, valid, then);
+  __m512d d2 = _mm512_setzero_pd();
+  for (int k = 0; k < D; ++k) {
+    const __m512d d = _mm512_sub_pd(lanes::component<D>(now, k), lanes::component<D>(then, k));
+    d2 = k == 0 ? lanes::mul(d, d) : _mm512_fmadd_pd(d, d, d2);
+  }
+  __mmask8 far = _mm512_mask_cmp_pd_mask(valid, d2, _mm512_set1_pd(quick_limit2_), _CMP_NLE_UQ);
+  if (far == 0) return false;
+  alignas(64) double each[8];
+  _mm512_store_pd(each, d2);
+  for (; far != 0; far &= static_cast<__mmask8>(far - 1)) {
+    const int l = __builtin_ctz(far);
+    if (beyond_own_limit(i + static_cast<std::size_t>(l), each[l])) return true;
+  }
+  return false;
+}
+#endif
 
 // Reorders owned particles by cell of size `cell` (then by global id) for
 // cache locality. Call before rebuilding ghosts and lists.

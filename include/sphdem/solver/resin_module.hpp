@@ -112,6 +112,16 @@ class ResinModule final : public Module<D> {
   std::vector<OrderedTerm> weld_events_;
   bool front_series_started_ = false;  // the front events CSV of this run
   int cg_iterations_ = 0;              // of the last implicit viscous solve
+  // Two checks that ride on the passes of the kicks (docs/performance.md,
+  // "The streaming passes"): the drift's rebuild verdict for moved(), and
+  // the second kick's maxima for the next stable_dt, with the owned count
+  // they cover. Empty: moved() and stable_dt() run their own pass.
+  std::optional<bool> moved_at_drift_;
+  struct KickExtremes {
+    LocalExtremes maxima;
+    std::size_t n_owned;
+  };
+  std::optional<KickExtremes> extremes_at_kick_;
 };
 
 }  // namespace sphdem
