@@ -310,8 +310,8 @@ TEST(SphPairLoop, TheShippedTermsRunInRegistersWithAvx) {
   }
   sp.variable_viscosity = true;
   EXPECT_EQ((describe_pair_loop<2, SphTerms>(sp).in_registers), kAvx) << "a viscosity law";
-  // With AVX-512, one particle per lane wherever the terms run in registers.
-#if defined(__AVX512F__)
+  // With AVX, one particle per lane wherever the terms run in registers.
+#if defined(__AVX__)
   EXPECT_TRUE((describe_pair_loop<2, SphTerms>(sp).one_per_lane));
   EXPECT_TRUE((describe_pair_loop<3, SphTerms>(sp).one_per_lane));
 #endif
@@ -320,13 +320,14 @@ TEST(SphPairLoop, TheShippedTermsRunInRegistersWithAvx) {
   EXPECT_FALSE((describe_pair_loop<2, SphTerms>(sp).one_per_lane));
 }
 
-// With AVX-512 the loop puts one owned particle per lane (pair_loop.hpp,
-// kOnePerLane); PairLoopRun::per_particle forces one particle at a time.
+// With AVX the loop puts one owned particle per lane (pair_loop.hpp,
+// kOnePerLane: eight lanes with AVX-512, four with AVX);
+// PairLoopRun::per_particle forces one particle at a time.
 // Both must give the same bits in every combination of terms, with the
 // free-surface flag on the side and the close-neighbour search: each lane
 // sums its own list in order, and a lane past the end of a shorter list adds
 // nothing. The clouds' lists differ in length (walls, edges), so the groups
-// of eight are ragged. Fails when a lane adds past its list's end.
+// are ragged. Fails when a lane adds past its list's end.
 template <int D>
 void expect_one_per_lane_bitwise(const SphParams& sp, std::uint32_t seed) {
   const SphParticles<D> start = cloud<D>(sp, seed);
@@ -355,7 +356,7 @@ void expect_one_per_lane_bitwise(const SphParams& sp, std::uint32_t seed) {
         << "particle " << i;
     EXPECT_EQ(lanes.free_surface[i], one.free_surface[i]) << "particle " << i;
   }
-  EXPECT_GT(fluid, 8u) << "more than one group of eight";
+  EXPECT_GT(fluid, 8u) << "more than one group of lanes";
   EXPECT_EQ(close_lanes.particles, close_one.particles);
 }
 

@@ -81,8 +81,8 @@ struct GatherLanes<D, Fields<Fs...>> {
   // The lane rows of neighbours r[0..W-1] in registers, row L in out[L]: W = 4
   // with row (256-bit), W = 8 with row8 (512-bit). The pair loop computes its
   // terms on them when it can (pair_loop.hpp, "steps 1 and 2 in registers").
-  // own: particle i's record (double), or with W = 8 registers holding one
-  // particle per lane (pair_loop.hpp, "one particle per lane").
+  // own: particle i's record (double), or registers of W doubles holding
+  // one particle per lane (pair_loop.hpp, "one particle per lane").
   template <class Lanes, class Record, std::size_t W, class Reg, class O>
   [[gnu::always_inline]] static inline void rows(const O* own, const double* const (&r)[W],
                                                  Reg* out) {
@@ -103,18 +103,20 @@ struct GatherLanes<D, Fields<Fs...>> {
     }
   }
 
-  template <int kSrc, int kRel>
-  [[gnu::always_inline]] static inline __m256d row(const double* own, const double* const (&r)[4]) {
+  template <int kSrc, int kRel, class O>
+  [[gnu::always_inline]] static inline __m256d row(const O* own, const double* const (&r)[4]) {
     constexpr int base = kSrc & ~1;
     const __m256d a = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(r[0] + base)),
                                            _mm_loadu_pd(r[2] + base), 1);  // a0 a1 c0 c1
     const __m256d b = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(r[1] + base)),
                                            _mm_loadu_pd(r[3] + base), 1);  // b0 b1 d0 d1
     const __m256d v = (kSrc & 1) == 0 ? _mm256_unpacklo_pd(a, b) : _mm256_unpackhi_pd(a, b);
-    if constexpr (kRel >= 0)
+    if constexpr (kRel < 0)
+      return v;
+    else if constexpr (std::is_same_v<O, double>)
       return _mm256_sub_pd(_mm256_set1_pd(own[kRel]), v);
     else
-      return v;
+      return _mm256_sub_pd(own[kRel], v);
   }
 #endif
 

@@ -359,6 +359,68 @@ inline __m512d lane_sqrt(__m512d x) {
 }
 #endif
 
+// The one-particle-per-lane form's lane operations (rates_loop, kOnePerLane)
+// on a register of W doubles: AVX-512's masks, or AVX's all-ones lanes.
+// By the register's size in bytes (a register type as a template argument
+// loses its attributes, which GCC reports).
+template <std::size_t kBytes>
+struct PerLane;
+#if defined(__AVX__)
+template <>
+struct PerLane<sizeof(__m256d)> {
+  static constexpr int W = 4;
+  using Mask = __m256d;  // all ones in a lane whose list goes on
+  // Lane l's value: p[l][c].
+  static __m256d lanes_of(const double* const (&p)[4], std::size_t c) {
+    return _mm256_set_pd(p[3][c], p[2][c], p[1][c], p[0][c]);
+  }
+  // The lanes whose lists are longer than k (len: the lengths as doubles).
+  static Mask longer_than(__m256d len, std::size_t k) {
+    return _mm256_cmp_pd(len, _mm256_set1_pd(static_cast<double>(k)), _CMP_GT_OQ);
+  }
+  static __m256d lengths(const double (&len)[4]) { return _mm256_loadu_pd(len); }
+  // sum + x in the lanes of in, sum elsewhere. Adding the +0 that the and
+  // leaves is exact, and a sum that starts at +0 is never -0, so the bits
+  // are those of a masked add.
+  static __m256d add(__m256d sum, Mask in, __m256d x) {
+    return _mm256_add_pd(sum, _mm256_and_pd(x, in));
+  }
+  // r2 where in and r2 < least, least elsewhere.
+  static __m256d least(__m256d least, Mask in, __m256d r2) {
+    return _mm256_blendv_pd(least, r2, _mm256_and_pd(in, _mm256_cmp_pd(r2, least, _CMP_LT_OQ)));
+  }
+  static void store(double* out, __m256d v) { _mm256_storeu_pd(out, v); }
+};
+#endif
+#if defined(__AVX512F__)
+template <>
+struct PerLane<sizeof(__m512d)> {
+  static constexpr int W = 8;
+  using Mask = __mmask8;
+  static __m512d lanes_of(const double* const (&p)[8], std::size_t c) {
+    return _mm512_set_pd(p[7][c], p[6][c], p[5][c], p[4][c], p[3][c], p[2][c], p[1][c], p[0][c]);
+  }
+  static Mask longer_than(__m512d len, std::size_t k) {
+    return _mm512_cmp_pd_mask(len, _mm512_set1_pd(static_cast<double>(k)), _CMP_GT_OQ);
+  }
+  static __m512d lengths(const double (&len)[8]) { return _mm512_loadu_pd(len); }
+  static __m512d add(__m512d sum, Mask in, __m512d x) {
+    return _mm512_mask_add_pd(sum, in, sum, x);
+  }
+  static __m512d least(__m512d least, Mask in, __m512d r2) {
+    return _mm512_mask_mov_pd(least, _mm512_mask_cmp_pd_mask(in, r2, least, _CMP_LT_OQ), r2);
+  }
+  static void store(double* out, __m512d v) { _mm512_storeu_pd(out, v); }
+};
+#endif
+
+// The distance of one pair (V = double) or of a block of pairs in
+// registers: |x_ij|^2 and |x_ij|.
+template <class V>
+struct PairDistance {
+  V r2, r;
+};
+
 // What step 2 of the pair loop gives for one pair (V = double) or for a
 // block of pairs in registers.
 template <class V, int D>
@@ -394,9 +456,10 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   using Side = typename N::Side;
   constexpr bool kSide = !std::is_void_v<Side>;
   constexpr bool kInRegisters = InRegisters<Sel, Side>::value;
-  // One owned particle per lane (AVX-512 only): docs/performance.md, "One
-  // particle per lane". SPHDEM_PAIRS_PER_PARTICLE keeps one particle at a time.
-#if defined(__AVX512F__) && !defined(SPHDEM_PAIRS_PER_PARTICLE)
+  // One owned particle per lane (with AVX: eight lanes with AVX-512, else
+  // four): docs/performance.md, "One particle per lane" and "One particle
+  // per lane with AVX2". SPHDEM_PAIRS_PER_PARTICLE keeps one particle at a time.
+#if defined(__AVX__) && !defined(SPHDEM_PAIRS_PER_PARTICLE)
   constexpr bool kOnePerLane = kInRegisters;
 #else
   constexpr bool kOnePerLane = false;
@@ -450,16 +513,22 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     // doubles, row(r) the gather's register). view(reads, own_reads, r2, r,
     // q, t, F) is a term's view of the pair(s). Pairs beyond the support get
     // F = 0 (a select, not a branch) and contribute exact zeros.
-    const auto pair_step = [&]<class V>(std::type_identity<V>, const auto& bound, const auto& row,
-                                        const auto& view) {
-      PairOut<V, D> o{};
+    // The head of step 2: the pairs' r^2 and r (the one-particle-per-lane
+    // form computes them a slot ahead: below).
+    const auto pair_distance = [&]<class V>(std::type_identity<V>, const auto& row) {
       V r2{};
       for (int d = 0; d < D; ++d) {
         const V x = row(kPos + d);
         r2 += x * x;
       }
+      return PairDistance<V>{r2, lane_sqrt(r2)};
+    };
+    // The rest of step 2, given the head.
+    const auto pair_rest = [&]<class V>(std::type_identity<V>, const auto& bound, const auto& row,
+                                        const auto& view, const PairDistance<V>& dist) {
+      PairOut<V, D> o{};
+      const V r2 = dist.r2, r = dist.r;
       o.r2 = r2;
-      const V r = lane_sqrt(r2);
       const V q = r * inv_h;
       const V t = r2 < support2 ? 2.0 - q : V{};
       // WendlandC2::f (kernel.hpp), the same operations without the branch.
@@ -502,38 +571,43 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
       }
       return o;
     };
+    const auto pair_step = [&]<class V>(std::type_identity<V> v, const auto& bound, const auto& row,
+                                        const auto& view) {
+      return pair_rest(v, bound, row, view, pair_distance(v, row));
+    };
 
     if constexpr (kOnePerLane) {
       if (!run.per_particle) {
-#if defined(__AVX512F__)
+#if defined(__AVX__)
         // (VR deduced, not spelled: GCC drops __m512d's attributes from an
         // explicit template argument, and says so.)
         [&]<class VR>(const VR*) {
           // One particle per lane (docs/performance.md, "One particle per
-          // lane"): eight owned resin particles at a time, slot k holding each
-          // one's k-th neighbour. Each lane's sums then run in its list's order
-          // by themselves, as step 3's do, and no per-pair result, lane row or
+          // lane"): W owned resin particles at a time (eight with AVX-512,
+          // four with AVX), slot k holding each one's k-th neighbour. Each lane's sums then run in
+          // its list's order by themselves, as step 3's do, and no per-pair result, lane row or
           // remainder block is stored; a lane past its list's end adds nothing
           // (a masked add) to a sum that started at +0, so the bits are those of
           // one particle at a time.
           using Gather = GatherLanes<D, typename N::LaneFields>;
+          using Ops = PerLane<sizeof(VR)>;
+          constexpr int W = Ops::W;
           static thread_local std::vector<std::int32_t> slot_index;
           std::size_t at = 0;
           while (at < count) {
-            std::uint32_t ids[8];
+            std::uint32_t ids[W];
             int m = 0;
-            for (; at < count && m < 8; ++at) {
+            for (; at < count && m < W; ++at) {
               const std::size_t i = redo != nullptr ? redo[at] : at;
               if (ps.kind[i] == Kind::Fluid) ids[m++] = static_cast<std::uint32_t>(i);
             }
             if (m == 0) break;
-            for (int l = m; l < 8; ++l) ids[l] = ids[m - 1];
+            for (int l = m; l < W; ++l) ids[l] = ids[m - 1];
             // The particles' records, one lane each.
+            const double* own_rec[W];
+            for (int l = 0; l < W; ++l) own_rec[l] = rec[ids[l]].v;
             VR own_rows[Record::kSize];
-            for (std::size_t c = 0; c < Record::kSize; ++c)
-              own_rows[c] = _mm512_set_pd(rec[ids[7]].v[c], rec[ids[6]].v[c], rec[ids[5]].v[c],
-                                          rec[ids[4]].v[c], rec[ids[3]].v[c], rec[ids[2]].v[c],
-                                          rec[ids[1]].v[c], rec[ids[0]].v[c]);
+            for (std::size_t c = 0; c < Record::kSize; ++c) own_rows[c] = Ops::lanes_of(own_rec, c);
             const auto bound = std::make_tuple(for_particle(
                 std::get<typename S::Term>(terms),
                 OwnView<Record,
@@ -541,54 +615,80 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
                                           typename OwnReadsOf<typename S::Term>::type>::type,
                         VR>{own_rows})...);
             // The lists slot by slot; past a list's end its last neighbour (or
-            // the particle itself), read and masked out.
-            alignas(64) std::int64_t len[8];
+            // the particle itself), read and masked out. One slot more than
+            // the longest list: the loop gathers a slot ahead.
+            // The lengths as doubles (exact below 2^53) for AVX's compares.
+            double len[W];
             std::size_t most = 0;
-            for (int l = 0; l < 8; ++l) {
-              len[l] = l < m ? static_cast<std::int64_t>(nl.end(ids[l]) - nl.begin(ids[l])) : 0;
-              most = std::max(most, static_cast<std::size_t>(len[l]));
+            for (int l = 0; l < W; ++l) {
+              const std::size_t n = l < m ? nl.end(ids[l]) - nl.begin(ids[l]) : 0;
+              len[l] = static_cast<double>(n);
+              most = std::max(most, n);
             }
-            slot_index.resize(8 * most);
-            for (int l = 0; l < 8; ++l) {
+            slot_index.resize(W * (most + 1));
+            for (int l = 0; l < W; ++l) {
               const NeighborRow nb = nl.row(ids[l]);
               const std::size_t b = nl.begin(ids[l]);
               const auto n = static_cast<std::size_t>(len[l]);
-              for (std::size_t k = 0; k < n; ++k) slot_index[k * 8 + l] = nb[b + k];
+              for (std::size_t k = 0; k < n; ++k) slot_index[k * W + l] = nb[b + k];
               const std::int32_t last =
-                  n > 0 ? slot_index[(n - 1) * 8 + l] : static_cast<std::int32_t>(ids[l]);
-              for (std::size_t k = n; k < most; ++k) slot_index[k * 8 + l] = last;
+                  n > 0 ? slot_index[(n - 1) * W + l] : static_cast<std::int32_t>(ids[l]);
+              for (std::size_t k = n; k <= most; ++k) slot_index[k * W + l] = last;
             }
-            const __m512i lenv = _mm512_load_si512(len);
+            const VR lenv = Ops::lengths(len);
             VR acc[D];
             for (int d = 0; d < D; ++d) acc[d] = splat<VR>(0.0);
             VR drho = splat<VR>(0.0), side_sum = splat<VR>(0.0), r2min = splat<VR>(1e300);
-            for (std::size_t k = 0; k < most; ++k) {
-              const std::int32_t* const j = slot_index.data() + k * 8;
-              const double* const r8[8] = {rec[j[0]].v, rec[j[1]].v, rec[j[2]].v, rec[j[3]].v,
-                                           rec[j[4]].v, rec[j[5]].v, rec[j[6]].v, rec[j[7]].v};
+            // Slot k's lane rows, r^2 and r.
+            struct Slot {
               VR rows[Lanes::kSize];
-              Gather::template rows<Lanes, Record>(own_rows, r8, rows);
-              const PairOut<VR, D> o = pair_step(
-                  std::type_identity<VR>{}, bound, [&](std::size_t row) { return rows[row]; },
+              PairDistance<VR> dist;
+            };
+            const auto gather_slot = [&](std::size_t k, Slot& out) {
+              const std::int32_t* const j = slot_index.data() + k * W;
+              const double* rj[W];
+              for (int l = 0; l < W; ++l) rj[l] = rec[j[l]].v;
+              Gather::template rows<Lanes, Record>(own_rows, rj, out.rows);
+              out.dist = pair_distance(std::type_identity<VR>{},
+                                       [&](std::size_t row) { return out.rows[row]; });
+            };
+            // Slot k + 1's gather and square root come before slot k's terms,
+            // so the one's long chain (the square root's latency) overlaps the
+            // other's work: without it the core waits on each slot in turn
+            // (docs/performance.md, "One particle per lane with AVX2").
+            // Slot k's terms from cur, added where the lists go on.
+            const auto slot_terms = [&](std::size_t k, const Slot& cur) {
+              const PairOut<VR, D> o = pair_rest(
+                  std::type_identity<VR>{}, bound, [&](std::size_t row) { return cur.rows[row]; },
                   [&]<class R, class O>(std::type_identity<R>, std::type_identity<O>, VR r2, VR r,
                                         VR q, VR t, VR F) {
-                    return RegisterPairView<D, Lanes, Record, R, O, VR, VR>{rows, own_rows, r2, r,
-                                                                            q,    t,        F};
-                  });
-              const __mmask8 in =
-                  _mm512_cmpgt_epi64_mask(lenv, _mm512_set1_epi64(static_cast<long long>(k)));
-              for (int d = 0; d < D; ++d) acc[d] = _mm512_mask_add_pd(acc[d], in, acc[d], o.acc[d]);
-              drho = _mm512_mask_add_pd(drho, in, drho, o.drho);
-              if constexpr (kSide) side_sum = _mm512_mask_add_pd(side_sum, in, side_sum, o.side);
+                    return RegisterPairView<D, Lanes, Record, R, O, VR, VR>{
+                        cur.rows, own_rows, r2, r, q, t, F};
+                  },
+                  cur.dist);
+              const typename Ops::Mask in = Ops::longer_than(lenv, k);
+              for (int d = 0; d < D; ++d) acc[d] = Ops::add(acc[d], in, o.acc[d]);
+              drho = Ops::add(drho, in, o.drho);
+              if constexpr (kSide) side_sum = Ops::add(side_sum, in, o.side);
               // r2min = r2 < r2min ? r2 : r2min, as the other forms.
-              r2min = _mm512_mask_mov_pd(
-                  r2min, _mm512_mask_cmp_pd_mask(in, o.r2, r2min, _CMP_LT_OQ), o.r2);
+              r2min = Ops::least(r2min, in, o.r2);
+            };
+            // Two slots per turn, the two Slots trading roles, so that no
+            // slot's rows are copied from one to the other.
+            Slot even, odd;
+            gather_slot(0, even);
+            for (std::size_t k = 0; k < most; k += 2) {
+              gather_slot(k + 1, odd);
+              slot_terms(k, even);
+              if (k + 1 == most) break;
+              gather_slot(k + 2, even);
+              slot_terms(k + 1, odd);
             }
-            alignas(64) double acc_out[D][8], drho_out[8], side_out[8], r2_out[8];
-            for (int d = 0; d < D; ++d) _mm512_store_pd(acc_out[d], acc[d]);
-            _mm512_store_pd(drho_out, drho);
-            _mm512_store_pd(side_out, side_sum);
-            _mm512_store_pd(r2_out, r2min);
+            double acc_out[D][W], drho_out[W], side_out[W], r2_out[W];
+            for (int d = 0; d < D; ++d) Ops::store(acc_out[d], acc[d]);
+            Ops::store(drho_out, drho);
+            Ops::store(side_out, side_sum);
+            Ops::store(r2_out, r2min);
             for (int l = 0; l < m; ++l) {
               const std::size_t i = ids[l];
               Vec<D> a;
@@ -608,7 +708,11 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               }
             }
           }
+#if defined(__AVX512F__)
         }(static_cast<const __m512d*>(nullptr));
+#else
+        }(static_cast<const __m256d*>(nullptr));
+#endif
 #endif
         return;
       }
@@ -771,7 +875,7 @@ LoopDescription describe_loop() {
   out.record_bytes = N::kStride * sizeof(double);
   out.in_registers =
       InRegisters<typename Registry<List>::template Select<C>, typename N::Side>::value;
-#if defined(__AVX512F__) && !defined(SPHDEM_PAIRS_PER_PARTICLE)
+#if defined(__AVX__) && !defined(SPHDEM_PAIRS_PER_PARTICLE)
   out.one_per_lane = out.in_registers;
 #endif
   return out;
