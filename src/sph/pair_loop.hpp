@@ -360,35 +360,28 @@ inline __m512d lane_sqrt(__m512d x) {
 #endif
 
 // The one-particle-per-lane form's lane operations (rates_loop, kOnePerLane)
-// on a register of W doubles: AVX-512's masks, or AVX's all-ones lanes.
-// By the register's size in bytes (a register type as a template argument
-// loses its attributes, which GCC reports).
+// on a register of W doubles (AVX-512's eight or AVX's four), by the
+// register's size in bytes (a register type as a template argument loses its
+// attributes, which GCC reports).
 template <std::size_t kBytes>
 struct PerLane;
 #if defined(__AVX__)
 template <>
 struct PerLane<sizeof(__m256d)> {
   static constexpr int W = 4;
-  using Mask = __m256d;  // all ones in a lane whose list goes on
   // Lane l's value: p[l][c].
   static __m256d lanes_of(const double* const (&p)[4], std::size_t c) {
     return _mm256_set_pd(p[3][c], p[2][c], p[1][c], p[0][c]);
   }
-  // The lanes whose lists are longer than k (len: the lengths as doubles).
-  static Mask longer_than(__m256d len, std::size_t k) {
-    return _mm256_cmp_pd(len, _mm256_set1_pd(static_cast<double>(k)), _CMP_GT_OQ);
+  // sum + x as its own addition: the empty asm hides where x came from, so
+  // GCC cannot fuse the add with a product that made x (one particle at a
+  // time adds x from memory).
+  static __m256d add(__m256d sum, __m256d x) {
+    __asm__("" : "+v"(x));
+    return _mm256_add_pd(sum, x);
   }
-  static __m256d lengths(const double (&len)[4]) { return _mm256_loadu_pd(len); }
-  // sum + x in the lanes of in, sum elsewhere. Adding the +0 that the and
-  // leaves is exact, and a sum that starts at +0 is never -0, so the bits
-  // are those of a masked add.
-  static __m256d add(__m256d sum, Mask in, __m256d x) {
-    return _mm256_add_pd(sum, _mm256_and_pd(x, in));
-  }
-  // r2 where in and r2 < least, least elsewhere.
-  static __m256d least(__m256d least, Mask in, __m256d r2) {
-    return _mm256_blendv_pd(least, r2, _mm256_and_pd(in, _mm256_cmp_pd(r2, least, _CMP_LT_OQ)));
-  }
+  // r2 < least ? r2 : least.
+  static __m256d least(__m256d least, __m256d r2) { return _mm256_min_pd(r2, least); }
   static void store(double* out, __m256d v) { _mm256_storeu_pd(out, v); }
 };
 #endif
@@ -396,20 +389,14 @@ struct PerLane<sizeof(__m256d)> {
 template <>
 struct PerLane<sizeof(__m512d)> {
   static constexpr int W = 8;
-  using Mask = __mmask8;
   static __m512d lanes_of(const double* const (&p)[8], std::size_t c) {
     return _mm512_set_pd(p[7][c], p[6][c], p[5][c], p[4][c], p[3][c], p[2][c], p[1][c], p[0][c]);
   }
-  static Mask longer_than(__m512d len, std::size_t k) {
-    return _mm512_cmp_pd_mask(len, _mm512_set1_pd(static_cast<double>(k)), _CMP_GT_OQ);
+  static __m512d add(__m512d sum, __m512d x) {
+    __asm__("" : "+v"(x));
+    return _mm512_add_pd(sum, x);
   }
-  static __m512d lengths(const double (&len)[8]) { return _mm512_loadu_pd(len); }
-  static __m512d add(__m512d sum, Mask in, __m512d x) {
-    return _mm512_mask_add_pd(sum, in, sum, x);
-  }
-  static __m512d least(__m512d least, Mask in, __m512d r2) {
-    return _mm512_mask_mov_pd(least, _mm512_mask_cmp_pd_mask(in, r2, least, _CMP_LT_OQ), r2);
-  }
+  static __m512d least(__m512d least, __m512d r2) { return _mm512_min_pd(r2, least); }
   static void store(double* out, __m512d v) { _mm512_storeu_pd(out, v); }
 };
 #endif
@@ -476,14 +463,27 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   const std::size_t n = ps.size();
   // With the doubles after the last record that the gather reads
   // (kRecordSpare, lane_gather.hpp).
+  // One record more, the far record (index n), for the one-particle-per-lane
+  // form.
   PackedRecord<kStride>* rec = reinterpret_cast<PackedRecord<kStride>*>(
-      shared_scratch(n * kStride + kRecordSpare<D, kStride>));
+      shared_scratch((n + 1) * kStride + kRecordSpare<D, kStride>));
   if (run.redo == nullptr) {
     for (std::size_t i = 0; i < n; ++i)
       FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
   } else {
     for (const std::uint32_t j : *run.refill)
       FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, j, rec[j].v);
+  }
+  // The far record: record 0's values at a position kFar from the origin on
+  // every axis, far beyond the support of any particle, so that a pair with
+  // it has t = 0 and F = 0 and every term gives exact zeros (as for every
+  // pair beyond the support, step 2 below) from finite values (kFar^2 and its
+  // products with a particle's fields stay finite). The one-particle-per-lane
+  // form pads the shorter lists of a group with it.
+  constexpr double kFar = 1e20;
+  if (n > 0) {
+    for (std::size_t c = 0; c < kStride; ++c) rec[n].v[c] = rec[0].v[c];
+    for (int d = 0; d < D; ++d) rec[n].v[Record::template offset<field::Pos>() + d] = kFar;
   }
 
   [&]<class... S>(TermList<S...>) {
@@ -584,11 +584,12 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
         [&]<class VR>(const VR*) {
           // One particle per lane (docs/performance.md, "One particle per
           // lane"): W owned resin particles at a time (eight with AVX-512,
-          // four with AVX), slot k holding each one's k-th neighbour. Each lane's sums then run in
-          // its list's order by themselves, as step 3's do, and no per-pair result, lane row or
-          // remainder block is stored; a lane past its list's end adds nothing
-          // (a masked add) to a sum that started at +0, so the bits are those of
-          // one particle at a time.
+          // four with AVX), slot k holding each one's k-th neighbour. Each
+          // lane's sums then run in its list's order by themselves, as step
+          // 3's do, and no per-pair result, lane row or remainder block is
+          // stored; a lane past its list's end adds the far record's exact
+          // zeros to a sum that started at +0, so the bits are those of one
+          // particle at a time.
           using Gather = GatherLanes<D, typename N::LaneFields>;
           using Ops = PerLane<sizeof(VR)>;
           constexpr int W = Ops::W;
@@ -614,28 +615,24 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
                         typename MergeAll<false, typename S::Term::Reads,
                                           typename OwnReadsOf<typename S::Term>::type>::type,
                         VR>{own_rows})...);
-            // The lists slot by slot; past a list's end its last neighbour (or
-            // the particle itself), read and masked out. One slot more than
+            // The lists slot by slot; past a list's end the far record, whose
+            // exact zeros leave the lane's sums as they are (a sum that starts
+            // at +0 is never -0, and x + (+-0) == x otherwise), so each lane's
+            // bits are those of one particle at a time. One slot more than
             // the longest list: the loop gathers a slot ahead.
-            // The lengths as doubles (exact below 2^53) for AVX's compares.
-            double len[W];
             std::size_t most = 0;
-            for (int l = 0; l < W; ++l) {
-              const std::size_t n = l < m ? nl.end(ids[l]) - nl.begin(ids[l]) : 0;
-              len[l] = static_cast<double>(n);
-              most = std::max(most, n);
-            }
+            for (int l = 0; l < m; ++l) most = std::max(most, nl.end(ids[l]) - nl.begin(ids[l]));
+            const auto far = static_cast<std::int32_t>(n);
             slot_index.resize(W * (most + 1));
             for (int l = 0; l < W; ++l) {
-              const NeighborRow nb = nl.row(ids[l]);
-              const std::size_t b = nl.begin(ids[l]);
-              const auto n = static_cast<std::size_t>(len[l]);
-              for (std::size_t k = 0; k < n; ++k) slot_index[k * W + l] = nb[b + k];
-              const std::int32_t last =
-                  n > 0 ? slot_index[(n - 1) * W + l] : static_cast<std::int32_t>(ids[l]);
-              for (std::size_t k = n; k <= most; ++k) slot_index[k * W + l] = last;
+              std::size_t k = 0;
+              if (l < m) {
+                const NeighborRow nb = nl.row(ids[l]);
+                for (std::size_t b = nl.begin(ids[l]), e = nl.end(ids[l]); b < e; ++b, ++k)
+                  slot_index[k * W + l] = nb[b];
+              }
+              for (; k <= most; ++k) slot_index[k * W + l] = far;
             }
-            const VR lenv = Ops::lengths(len);
             VR acc[D];
             for (int d = 0; d < D; ++d) acc[d] = splat<VR>(0.0);
             VR drho = splat<VR>(0.0), side_sum = splat<VR>(0.0), r2min = splat<VR>(1e300);
@@ -656,8 +653,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             // so the one's long chain (the square root's latency) overlaps the
             // other's work: without it the core waits on each slot in turn
             // (docs/performance.md, "One particle per lane with AVX2").
-            // Slot k's terms from cur, added where the lists go on.
-            const auto slot_terms = [&](std::size_t k, const Slot& cur) {
+            // A slot's terms from its gather, added to the lanes' sums.
+            const auto slot_terms = [&](const Slot& cur) {
               const PairOut<VR, D> o = pair_rest(
                   std::type_identity<VR>{}, bound, [&](std::size_t row) { return cur.rows[row]; },
                   [&]<class R, class O>(std::type_identity<R>, std::type_identity<O>, VR r2, VR r,
@@ -666,12 +663,12 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
                         cur.rows, own_rows, r2, r, q, t, F};
                   },
                   cur.dist);
-              const typename Ops::Mask in = Ops::longer_than(lenv, k);
-              for (int d = 0; d < D; ++d) acc[d] = Ops::add(acc[d], in, o.acc[d]);
-              drho = Ops::add(drho, in, o.drho);
-              if constexpr (kSide) side_sum = Ops::add(side_sum, in, o.side);
-              // r2min = r2 < r2min ? r2 : r2min, as the other forms.
-              r2min = Ops::least(r2min, in, o.r2);
+              for (int d = 0; d < D; ++d) acc[d] = Ops::add(acc[d], o.acc[d]);
+              drho = Ops::add(drho, o.drho);
+              if constexpr (kSide) side_sum = Ops::add(side_sum, o.side);
+              // r2min = r2 < r2min ? r2 : r2min, as the other forms (the far
+              // record's r2, about 1e40, is never close).
+              r2min = Ops::least(r2min, o.r2);
             };
             // Two slots per turn, the two Slots trading roles, so that no
             // slot's rows are copied from one to the other.
@@ -679,10 +676,10 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             gather_slot(0, even);
             for (std::size_t k = 0; k < most; k += 2) {
               gather_slot(k + 1, odd);
-              slot_terms(k, even);
+              slot_terms(even);
               if (k + 1 == most) break;
               gather_slot(k + 2, even);
-              slot_terms(k + 1, odd);
+              slot_terms(odd);
             }
             double acc_out[D][W], drho_out[W], side_out[W], r2_out[W];
             for (int d = 0; d < D; ++d) Ops::store(acc_out[d], acc[d]);
