@@ -360,46 +360,30 @@ inline __m512d lane_sqrt(__m512d x) {
 #endif
 
 // The one-particle-per-lane form's lane operations (rates_loop, kOnePerLane)
-// on a register of W doubles (AVX-512's eight or AVX's four), by the
-// register's size in bytes (a register type as a template argument loses its
-// attributes, which GCC reports).
-template <std::size_t kBytes>
-struct PerLane;
-#if defined(__AVX__)
-template <>
-struct PerLane<sizeof(__m256d)> {
-  static constexpr int W = 4;
-  // Lane l's value: p[l][c].
-  static __m256d lanes_of(const double* const (&p)[4], std::size_t c) {
-    return _mm256_set_pd(p[3][c], p[2][c], p[1][c], p[0][c]);
-  }
-  // sum + x as its own addition: the empty asm hides where x came from, so
-  // GCC cannot fuse the add with a product that made x (one particle at a
-  // time adds x from memory).
-  static __m256d add(__m256d sum, __m256d x) {
-    __asm__("" : "+v"(x));
-    return _mm256_add_pd(sum, x);
-  }
-  // r2 < least ? r2 : least.
-  static __m256d least(__m256d least, __m256d r2) { return _mm256_min_pd(r2, least); }
-  static void store(double* out, __m256d v) { _mm256_storeu_pd(out, v); }
-};
-#endif
-#if defined(__AVX512F__)
-template <>
-struct PerLane<sizeof(__m512d)> {
-  static constexpr int W = 8;
-  static __m512d lanes_of(const double* const (&p)[8], std::size_t c) {
-    return _mm512_set_pd(p[7][c], p[6][c], p[5][c], p[4][c], p[3][c], p[2][c], p[1][c], p[0][c]);
-  }
-  static __m512d add(__m512d sum, __m512d x) {
-    __asm__("" : "+v"(x));
-    return _mm512_add_pd(sum, x);
-  }
-  static __m512d least(__m512d least, __m512d r2) { return _mm512_min_pd(r2, least); }
-  static void store(double* out, __m512d v) { _mm512_storeu_pd(out, v); }
-};
-#endif
+// on a register VR of doubles, AVX-512's eight or AVX's four (deduced, not
+// spelled: GCC drops a register type's attributes from an explicit template
+// argument, and says so).
+// Lane l of out: p[l][c].
+template <class VR, std::size_t W>
+void lanes_of(const double* const (&p)[W], std::size_t c, VR& out) {
+  static_assert(sizeof(VR) == W * sizeof(double));
+  double v[W];
+  for (std::size_t l = 0; l < W; ++l) v[l] = p[l][c];
+  __builtin_memcpy(&out, v, sizeof(VR));
+}
+// sum + x as its own addition: the empty asm hides where x came from, so GCC
+// cannot fuse the add with a product that made x (one particle at a time
+// adds x from memory).
+template <class VR>
+VR lane_add(VR sum, VR x) {
+  __asm__("" : "+v"(x));
+  return sum + x;
+}
+// r2 < least ? r2 : least, lane by lane.
+template <class VR>
+VR lane_least(VR least, VR r2) {
+  return r2 < least ? r2 : least;
+}
 
 // The distance of one pair (V = double) or of a block of pairs in
 // registers: |x_ij|^2 and |x_ij|.
@@ -591,8 +575,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
           // zeros to a sum that started at +0, so the bits are those of one
           // particle at a time.
           using Gather = GatherLanes<D, typename N::LaneFields>;
-          using Ops = PerLane<sizeof(VR)>;
-          constexpr int W = Ops::W;
+          constexpr int W = sizeof(VR) / sizeof(double);
           static thread_local std::vector<std::int32_t> slot_index;
           std::size_t at = 0;
           while (at < count) {
@@ -608,7 +591,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             const double* own_rec[W];
             for (int l = 0; l < W; ++l) own_rec[l] = rec[ids[l]].v;
             VR own_rows[Record::kSize];
-            for (std::size_t c = 0; c < Record::kSize; ++c) own_rows[c] = Ops::lanes_of(own_rec, c);
+            for (std::size_t c = 0; c < Record::kSize; ++c) lanes_of(own_rec, c, own_rows[c]);
             const auto bound = std::make_tuple(for_particle(
                 std::get<typename S::Term>(terms),
                 OwnView<Record,
@@ -663,12 +646,12 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
                         cur.rows, own_rows, r2, r, q, t, F};
                   },
                   cur.dist);
-              for (int d = 0; d < D; ++d) acc[d] = Ops::add(acc[d], o.acc[d]);
-              drho = Ops::add(drho, o.drho);
-              if constexpr (kSide) side_sum = Ops::add(side_sum, o.side);
+              for (int d = 0; d < D; ++d) acc[d] = lane_add(acc[d], o.acc[d]);
+              drho = lane_add(drho, o.drho);
+              if constexpr (kSide) side_sum = lane_add(side_sum, o.side);
               // r2min = r2 < r2min ? r2 : r2min, as the other forms (the far
               // record's r2, about 1e40, is never close).
-              r2min = Ops::least(r2min, o.r2);
+              r2min = lane_least(r2min, o.r2);
             };
             // Two slots per turn, the two Slots trading roles, so that no
             // slot's rows are copied from one to the other.
@@ -682,10 +665,10 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               slot_terms(odd);
             }
             double acc_out[D][W], drho_out[W], side_out[W], r2_out[W];
-            for (int d = 0; d < D; ++d) Ops::store(acc_out[d], acc[d]);
-            Ops::store(drho_out, drho);
-            Ops::store(side_out, side_sum);
-            Ops::store(r2_out, r2min);
+            for (int d = 0; d < D; ++d) __builtin_memcpy(acc_out[d], &acc[d], sizeof(VR));
+            __builtin_memcpy(drho_out, &drho, sizeof(VR));
+            __builtin_memcpy(side_out, &side_sum, sizeof(VR));
+            __builtin_memcpy(r2_out, &r2min, sizeof(VR));
             for (int l = 0; l < m; ++l) {
               const std::size_t i = ids[l];
               Vec<D> a;
