@@ -326,8 +326,10 @@ TEST(SphPairLoop, TheShippedTermsRunInRegistersWithAvx) {
 // Both must give the same bits in every combination of terms, with the
 // free-surface flag on the side and the close-neighbour search: each lane
 // sums its own list in order, and a lane past the end of a shorter list adds
-// nothing. The clouds' lists differ in length (walls, edges), so the groups
-// are ragged. Fails when a lane adds past its list's end.
+// only the far record's exact zeros. The clouds' lists differ in length
+// (walls, edges), so the groups are ragged. Fails when a lane past its
+// list's end adds anything else (shown by leaving the far record among the
+// particles: docs/performance.md, "One particle per lane with AVX2").
 template <int D>
 void expect_one_per_lane_bitwise(const SphParams& sp, std::uint32_t seed) {
   const SphParticles<D> start = cloud<D>(sp, seed);

@@ -18,10 +18,11 @@
 // terms are computed on them straight away, so no lane row is stored and
 // loaded again (docs/performance.md, "Steps 1 and 2 in registers"). Both
 // forms run the same step-2 code (pair_step), on one double or on a
-// register of them. With AVX-512 the register form puts one owned particle
-// in each lane instead, slot k holding each one's k-th neighbour, so each
-// lane sums its own list in order and step 3 disappears (docs/performance.md,
-// "One particle per lane").
+// register of them. The register form puts one owned particle in each lane
+// instead (eight with AVX-512, four with AVX2), slot k holding each one's
+// k-th neighbour, so each lane sums its own list in order and step 3
+// disappears (docs/performance.md, "One particle per lane", "One particle
+// per lane with AVX2").
 // The neighbour list is sorted by global id, and step 3 is a plain
 // sequential sum in that order, so the result does not depend on the
 // particle layout or the rank count (docs/performance.md).
