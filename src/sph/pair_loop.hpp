@@ -633,10 +633,6 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               out.dist = pair_distance(std::type_identity<VR>{},
                                        [&](std::size_t row) { return out.rows[row]; });
             };
-            // Slot k + 1's gather and square root come before slot k's terms,
-            // so the one's long chain (the square root's latency) overlaps the
-            // other's work: without it the core waits on each slot in turn
-            // (docs/performance.md, "One particle per lane with AVX2").
             // A slot's terms from its gather, added to the lanes' sums.
             const auto slot_terms = [&](const Slot& cur) {
               const PairOut<VR, D> o = pair_rest(
@@ -654,8 +650,12 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               // record's r2, about 1e40, is never close).
               r2min = lane_least(r2min, o.r2);
             };
-            // Two slots per turn, the two Slots trading roles, so that no
-            // slot's rows are copied from one to the other.
+            // Slot k + 1's gather and square root come before slot k's terms,
+            // so the one's long chain (the square root's latency) overlaps the
+            // other's work: without it the core waits on each slot in turn
+            // (docs/performance.md, "One particle per lane with AVX2"). Two
+            // slots per turn, the two Slots trading roles, so that no slot's
+            // rows are copied from one to the other.
             Slot even, odd;
             gather_slot(0, even);
             for (std::size_t k = 0; k < most; k += 2) {
