@@ -19,10 +19,14 @@ namespace sphdem {
 namespace {
 
 // A candidate within the support: its index and distance (the candidates
-// are listed by gid already, so no id is carried).
+// are listed by gid already, so no id is carried), and for a resin
+// neighbour of the drag pass its volume m_r / rho_r and W(r), computed once
+// for the pass's three walks over the list (Shepard sums, torque offset,
+// rotation fit).
 struct Near {
   std::int32_t index;
   double r;
+  double vol = 0, w = 0;
 };
 
 // The candidates [begin, end) of `items` (indices into `x`, by gid) within
@@ -50,9 +54,8 @@ double dem_volume(const DemParticles<D>& dem, std::size_t f) {
 // returns the angular impulse of the last step to them, and the torque the
 // next first kick uses. Runs after f's drag (mean_drag, drag_coeff).
 template <int D>
-void hydrodynamic_torque(const WendlandC2<D>& kernel, const SphParticles<D>& sph,
-                         const std::vector<Near>& near, DemParticles<D>& dem, std::size_t f,
-                         double dt, bool exponential) {
+void hydrodynamic_torque(const SphParticles<D>& sph, const std::vector<Near>& near,
+                         DemParticles<D>& dem, std::size_t f, double dt, bool exponential) {
   const Rot<D> mean_torque = dt > 0 ? Rot<D>(dem.torque_impulse[f] / dt) : Rot<D>::Zero();
   dem.torque_impulse[f].setZero();
   dem.torque_coeff[f] = 0.0;
@@ -62,16 +65,12 @@ void hydrodynamic_torque(const WendlandC2<D>& kernel, const SphParticles<D>& sph
   if (dem.shepard_sum[f] > 0.0) {
     const auto resin_of = [](const Near& n) { return static_cast<std::size_t>(n.index); };
     Vec<D> sum = Vec<D>::Zero();
-    for (const Near& n : near) {
-      const std::size_t r = resin_of(n);
-      sum += (sph.mass[r] / sph.rho[r] * kernel.w(n.r)) * (sph.x[r] - dem.x[f]);
-    }
+    for (const Near& n : near) sum += (n.vol * n.w) * (sph.x[resin_of(n)] - dem.x[f]);
     const Vec<D> offset = sum / dem.shepard_sum[f];
     terms::RotationFit<D> fit;
     for (const Near& n : near) {
       const std::size_t r = resin_of(n);
-      fit.add(sph.mass[r] / sph.rho[r] * kernel.w(n.r), sph.x[r] - dem.x[f] - offset,
-              sph.v[r] - dem.resin_velocity[f]);
+      fit.add(n.vol * n.w, sph.x[r] - dem.x[f] - offset, sph.v[r] - dem.resin_velocity[f]);
     }
     if (fit.solvable()) {
       dem.torque_coeff[f] = terms::rotational_friction<D>(dem.drag_coeff[f], dem.radius[f]);
@@ -122,9 +121,11 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
     double sum_t = 0.0;   // sum_r V_r W_fr T_r, the resin temperature's Shepard numerator
     near_in_list<D>(pairs.resin_items, pairs.resin_start[f], pairs.resin_start[f + 1], sph.x,
                     dem.x[f], support, near);
-    for (const Near& n : near) {
+    for (Near& n : near) {
       const auto r = static_cast<std::size_t>(n.index);
-      const double vol_r = sph.mass[r] / sph.rho[r], w = kernel.w(n.r);
+      n.vol = sph.mass[r] / sph.rho[r];
+      n.w = kernel.w(n.r);
+      const double vol_r = n.vol, w = n.w;
       shepard.add(vol_r, w, sph.v[r]);
       if (s.drag.local_viscosity) mu_sum += vol_r * w * sph.viscosity[r];
       if (!sph.temperature.empty()) sum_t += vol_r * w * sph.temperature[r];
@@ -135,8 +136,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
       double inverse_sum = 0.0;
       for (const Near& n : near) {
         const auto r = static_cast<std::size_t>(n.index);
-        const double w =
-            shepard.has_resin() ? sph.mass[r] / sph.rho[r] * kernel.w(n.r) / shepard.s : 0.0;
+        const double w = shepard.has_resin() ? n.vol * n.w / shepard.s : 0.0;
         inverse_sum += w * w / (s.thickness * sph.mass[r]);
       }
       dem.drag_parcel_mass[f] = drag_parcel_mass(inverse_sum, sharing);
@@ -160,8 +160,7 @@ void drag_on_fibers(const CouplingSettings& s, const SphParticles<D>& sph, DemPa
       dem.force[f] += drag - dem.drag_force[f];
       dem.drag_force[f] = drag;
     }
-    if (s.hydrodynamic_torque)
-      hydrodynamic_torque<D>(kernel, sph, near, dem, f, dt, s.exponential_drag);
+    if (s.hydrodynamic_torque) hydrodynamic_torque<D>(sph, near, dem, f, dt, s.exponential_drag);
   }
 }
 
@@ -190,22 +189,11 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
   const CouplingPairs<D>& pairs = st.pairs;
   // The owned resin particles near the fibers, by slot: the ones that receive.
   const std::size_t n_slots = pairs.slot_resin.size();
-  std::vector<Vec<D>>& force = st.force;
-  std::vector<double>& phi = st.phi;
-  std::vector<double>& phi_rate = st.phi_rate;
-  std::vector<double>& vol = st.vol;
-  // sum_f (V_r W_fr / S_f) K_f V_f: the drag coefficient r is held by [kg/s].
-  std::vector<double>& held = st.held;
-  std::vector<std::uint8_t>& touched = st.touched;
-  force.assign(n_slots, Vec<D>::Zero());
-  phi.assign(n_slots, 0.0);
-  phi_rate.assign(n_slots, 0.0);
-  vol.resize(n_slots);
-  held.assign(n_slots, 0.0);
-  touched.assign(n_slots, 0);
+  auto& slots = st.slots;
+  slots.assign(n_slots, {});
   for (std::size_t k = 0; k < n_slots; ++k) {
     const auto r = static_cast<std::size_t>(pairs.slot_resin[k]);
-    vol[k] = sph.mass[r] / sph.rho[r];
+    slots[k].vol = sph.mass[r] / sph.rho[r];
   }
   const double support2 = support * support;
   for (const std::int32_t fi : pairs.dem_order) {
@@ -213,49 +201,52 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
     const double vol_f = dem_volume(dem, f);
     // Each neighbour r takes V_r W_fr of -F_mean / S_f (reaction.hpp).
     const Vec<D> share = terms::reaction_per_weight<D>(dem.shepard_sum[f], dem.mean_drag[f]);
+    // sum_f (V_r W_fr / S_f) K_f V_f: the drag coefficient r is held by [kg/s].
     const double coeff_per_weight =
         dem.shepard_sum[f] > 0.0 ? dem.drag_coeff[f] / dem.shepard_sum[f] : 0.0;
     for (std::int32_t c = pairs.resin_start[f]; c < pairs.resin_start[f + 1]; ++c) {
       const std::int32_t k = pairs.resin_slot[static_cast<std::size_t>(c)];
       if (k < 0) continue;  // a ghost: its owner receives
-      const auto ku = static_cast<std::size_t>(k);
+      auto& slot = slots[static_cast<std::size_t>(k)];
       const auto r = static_cast<std::size_t>(pairs.resin_items[static_cast<std::size_t>(c)]);
       const Vec<D> d = sph.x[r] - dem.x[f];
       const double dist2 = d.squaredNorm();
       if (dist2 >= support2) continue;
       const double dist = std::sqrt(dist2);
       const double w = kernel.w(dist);
-      force[ku] += (vol[ku] * w) * share;
+      slot.force += (slot.vol * w) * share;
       if (s.hydrodynamic_torque) {
-        force[ku] += terms::torque_reaction_force<D>(vol[ku] * w, dem.torque_lever[f],
-                                                     d - dem.resin_offset[f]);
+        slot.force += terms::torque_reaction_force<D>(slot.vol * w, dem.torque_lever[f],
+                                                      d - dem.resin_offset[f]);
       }
-      held[ku] += (vol[ku] * w) * coeff_per_weight;
-      phi[ku] += terms::solid_fraction<D>(kernel, vol_f, dist);
-      phi_rate[ku] +=
+      slot.held += (slot.vol * w) * coeff_per_weight;
+      slot.phi += terms::solid_fraction<D>(kernel, vol_f, dist);
+      slot.phi_rate +=
           terms::solid_fraction_rate(vol_f, kernel.f(dist), (sph.v[r] - dem.v[f]).dot(d));
-      touched[ku] = 1;
+      slot.touched = true;
     }
   }
   for (std::size_t k = 0; k < n_slots; ++k) {
-    if (!touched[k]) continue;
+    const auto& slot = slots[k];
+    if (!slot.touched) continue;
     const auto r = static_cast<std::size_t>(pairs.slot_resin[k]);
     // 2D: the drag is per depth `thickness`, the resin's mass per metre.
     if (impulse_dt > 0) {
       if (!sph.is_frozen(r)) {
-        const Vec<D> dv = (impulse_dt / (s.thickness * sph.mass[r])) * force[k];
+        const Vec<D> dv = (impulse_dt / (s.thickness * sph.mass[r])) * slot.force;
         sph.v_half[r] += dv;
         sph.v[r] += dv;
       }
     } else {
-      sph.a[r] += force[k] / (s.thickness * sph.mass[r]);
+      sph.a[r] += slot.force / (s.thickness * sph.mass[r]);
     }
-    total += force[k];
-    resin_drag_rate = std::max(resin_drag_rate, held[k] / (s.thickness * sph.mass[r]));
-    const double eps = terms::void_fraction(phi[k], s.drag.eps_min);
+    total += slot.force;
+    resin_drag_rate = std::max(resin_drag_rate, slot.held / (s.thickness * sph.mass[r]));
+    const double eps = terms::void_fraction(slot.phi, s.drag.eps_min);
     resin_void_fraction[r] = eps;
     if (s.void_fraction_in_continuity) {
-      const double rate = terms::clipped_solid_fraction_rate(phi[k], phi_rate[k], s.drag.eps_min);
+      const double rate =
+          terms::clipped_solid_fraction_rate(slot.phi, slot.phi_rate, s.drag.eps_min);
       sph.drho[r] = terms::continuity_void_fraction(sph.drho[r], sph.rho[r], rate, eps);
     }
   }

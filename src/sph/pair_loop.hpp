@@ -343,6 +343,14 @@ struct PairLoopRun {
   bool per_particle = false;
 };
 
+// On a lambda of the pair loop: inline it wherever it is called. Without it
+// GCC kept the one-particle-per-lane form's slot lambdas out of line once the
+// plate's terms (artificial viscosity, anti-clump, delta-SPH) made the loop
+// large, and the lanes' sums went through memory at every slot: the plate's
+// loop took 1.12 times the time of one particle at a time instead of 0.98
+// (docs/performance.md, "The plate's loop kept inline").
+#define SPHDEM_INLINE __attribute__((always_inline))
+
 // Square roots of one double or of a register of doubles (the pair loop's r).
 inline double lane_sqrt(double x) {
   return std::sqrt(x);
@@ -500,7 +508,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     // F = 0 (a select, not a branch) and contribute exact zeros.
     // The head of step 2: the pairs' r^2 and r (the one-particle-per-lane
     // form computes them a slot ahead: below).
-    const auto pair_distance = [&]<class V>(std::type_identity<V>, const auto& row) {
+    const auto pair_distance = [&]<class V>(std::type_identity<V>, const auto& row) SPHDEM_INLINE {
       V r2{};
       for (int d = 0; d < D; ++d) {
         const V x = row(kPos + d);
@@ -510,7 +518,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
     };
     // The rest of step 2, given the head.
     const auto pair_rest = [&]<class V>(std::type_identity<V>, const auto& bound, const auto& row,
-                                        const auto& view, const PairDistance<V>& dist) {
+                                        const auto& view,
+                                        const PairDistance<V>& dist) SPHDEM_INLINE {
       PairOut<V, D> o{};
       const V r2 = dist.r2, r = dist.r;
       o.r2 = r2;
@@ -625,7 +634,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               VR rows[Lanes::kSize];
               PairDistance<VR> dist;
             };
-            const auto gather_slot = [&](std::size_t k, Slot& out) {
+            const auto gather_slot = [&](std::size_t k, Slot& out) SPHDEM_INLINE {
               const std::int32_t* const j = slot_index.data() + k * W;
               const double* rj[W];
               for (int l = 0; l < W; ++l) rj[l] = rec[j[l]].v;
@@ -634,7 +643,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
                                        [&](std::size_t row) { return out.rows[row]; });
             };
             // A slot's terms from its gather, added to the lanes' sums.
-            const auto slot_terms = [&](const Slot& cur) {
+            const auto slot_terms = [&](const Slot& cur) SPHDEM_INLINE {
               const PairOut<VR, D> o = pair_rest(
                   std::type_identity<VR>{}, bound, [&](std::size_t row) { return cur.rows[row]; },
                   [&]<class R, class O>(std::type_identity<R>, std::type_identity<O>, VR r2, VR r,
