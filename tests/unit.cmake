@@ -8,7 +8,8 @@ sphdem_test(test_sph_term_registry SOURCES test_sph_term_registry.cpp RANKS 1 LA
 # pair loop (one particle per lane, one at a time) compares their operations,
 # not where GCC chose to fuse a product into an add: with the slot's terms
 # inline, GCC -O2 fused differently in the two forms and the density rates
-# differed by 1-32 ulp (docs/performance.md, "The plate's loop kept inline").
+# differed by 1-32 ulp (docs/performance.md, "The plate's loop kept inline;
+# the coupling's walks").
 target_compile_options(test_sph_term_registry PRIVATE -ffp-contract=off)
 # The pair loop's gather: four neighbours at a time bitwise one at a time.
 sphdem_test(test_lane_gather SOURCES test_lane_gather.cpp RANKS 1 LABELS unit)

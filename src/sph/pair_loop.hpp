@@ -347,8 +347,8 @@ struct PairLoopRun {
 // GCC kept the one-particle-per-lane form's slot lambdas out of line once the
 // plate's terms (artificial viscosity, anti-clump, delta-SPH) made the loop
 // large, and the lanes' sums went through memory at every slot: the plate's
-// loop took 1.12 times the time of one particle at a time instead of 0.98
-// (docs/performance.md, "The plate's loop kept inline").
+// loop took 1.12 times the time of one particle at a time instead of 0.96
+// (docs/performance.md, "The plate's loop kept inline; the coupling's walks").
 #define SPHDEM_INLINE __attribute__((always_inline))
 
 // Square roots of one double or of a register of doubles (the pair loop's r).

@@ -77,7 +77,7 @@ struct CouplingState {
   // The reaction's accumulators, one record per slot
   // (CouplingPairs::slot_resin): a pair reads and writes one cache line
   // instead of one in each of six arrays (docs/performance.md, "The
-  // reaction's sums in one record").
+  // plate's loop kept inline; the coupling's walks").
   struct ReactionSlot {
     Vec<D> force = Vec<D>::Zero();
     double phi = 0, phi_rate = 0, held = 0;
