@@ -339,7 +339,9 @@ struct PairLoopRun {
   const std::vector<std::uint32_t>* redo = nullptr;
   const std::vector<std::uint32_t>* refill = nullptr;
   // One particle at a time even where the loop would put one particle per
-  // lane (kOnePerLane): the two forms give the same bits, which a test checks.
+  // lane (kOnePerLane): the two forms do the same operations, and a test
+  // compiled without multiply-add contraction checks that they give the
+  // same bits (with it, GCC may fuse differently in the two: tests/unit.cmake).
   bool per_particle = false;
 };
 
