@@ -438,16 +438,7 @@ bool NeighborList<D>::needs_rebuild(const SphParticles<D>& ps) const {
     if (moved_too_far(ps.x.data()->data(), i, lanes::first(ps.n_owned - i))) return true;
   return false;
 #else
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    double d2 = 0.0;
-    for (int k = 0; k < D; ++k) {
-      const double d = ps.x[i][k] - static_cast<double>(x_at_build_[i][k]);
-      d2 = lanes::mul_add(d, d, d2);
-    }
-    if (d2 <= quick_limit2_) continue;
-    if (beyond_own_limit(i, d2)) return true;
-  }
-  return false;
+  return ps.n_owned > 0 && moved_too_far(ps.x.data()->data(), 0, ps.n_owned);
 #endif
 }
 

@@ -113,6 +113,83 @@ std::size_t resin_groups(const Arrays<D>& p, Group&& group) {
 }
 #endif
 
+#if defined(SPHDEM_PARTICLE_LANES4)
+// Without AVX-512, four particles at a time (AVX2): each register's doubles
+// are computed for all four and blended into what was there, so a wall's
+// or a frozen particle's values are stored back as they were read (the
+// one-particle form's results, bit for bit: the same fused operations).
+
+// The first kick and the drift of the resin among particles i .. i + 3
+// (bits of `fluid`, `frozen` of them frozen).
+template <int D>
+[[gnu::always_inline]] inline void kick_drift_group4(const Arrays<D>& p, std::size_t i,
+                                                     unsigned fluid, unsigned frozen) {
+  const __m256d h = _mm256_set1_pd(p.half), t = _mm256_set1_pd(p.dt);
+  for (int q = 0; q < D; ++q) {
+    const std::size_t k = D * i + 4 * static_cast<std::size_t>(q);
+    const __m256d m = lanes::vector_mask4<D>(fluid, q);
+    const __m256d a = _mm256_loadu_pd(p.a + k), x = _mm256_loadu_pd(p.x + k);
+    const __m256d v = _mm256_loadu_pd(p.v + k);
+    // A frozen particle's half-step velocity is +0, as the one-particle form's.
+    const __m256d vh =
+        _mm256_andnot_pd(lanes::vector_mask4<D>(frozen, q), _mm256_fmadd_pd(h, a, v));
+    _mm256_storeu_pd(p.v_half + k, _mm256_blendv_pd(_mm256_loadu_pd(p.v_half + k), vh, m));
+    _mm256_storeu_pd(p.x + k, _mm256_blendv_pd(x, _mm256_fmadd_pd(t, vh, x), m));
+    _mm256_storeu_pd(p.v + k, _mm256_blendv_pd(v, _mm256_fmadd_pd(h, a, vh), m));
+  }
+  const __m256d m = lanes::vector_mask4<1>(fluid, 0);
+  const __m256d drho = _mm256_loadu_pd(p.drho + i), rho = _mm256_loadu_pd(p.rho + i);
+  const __m256d rh = _mm256_fmadd_pd(h, drho, rho);
+  _mm256_storeu_pd(p.rho_half + i, _mm256_blendv_pd(_mm256_loadu_pd(p.rho_half + i), rh, m));
+  _mm256_storeu_pd(p.rho + i, _mm256_blendv_pd(rho, _mm256_fmadd_pd(h, drho, rh), m));
+}
+
+// The second kick of the resin among particles i .. i + 3 (bits of
+// `fluid`, `frozen` of them frozen).
+template <int D>
+[[gnu::always_inline]] inline void kick_group4(const Arrays<D>& p, std::size_t i, unsigned fluid,
+                                               unsigned frozen, bool density) {
+  const __m256d h = _mm256_set1_pd(p.half);
+  for (int q = 0; q < D; ++q) {
+    const std::size_t k = D * i + 4 * static_cast<std::size_t>(q);
+    const __m256d m = lanes::vector_mask4<D>(fluid, q);
+    __m256d a = _mm256_loadu_pd(p.a + k);
+    if (frozen != 0) {
+      a = _mm256_andnot_pd(lanes::vector_mask4<D>(frozen, q), a);
+      _mm256_storeu_pd(p.a + k, a);
+    }
+    _mm256_storeu_pd(p.v + k,
+                     _mm256_blendv_pd(_mm256_loadu_pd(p.v + k),
+                                      _mm256_fmadd_pd(h, a, _mm256_loadu_pd(p.v_half + k)), m));
+  }
+  if (!density) return;
+  const __m256d m = lanes::vector_mask4<1>(fluid, 0);
+  const __m256d rho =
+      _mm256_fmadd_pd(h, _mm256_loadu_pd(p.drho + i), _mm256_loadu_pd(p.rho_half + i));
+  _mm256_storeu_pd(p.rho + i, _mm256_blendv_pd(_mm256_loadu_pd(p.rho + i), rho, m));
+  if (p.temperature != nullptr) {
+    const __m256d temp =
+        _mm256_fmadd_pd(h, _mm256_loadu_pd(p.dtemp + i), _mm256_loadu_pd(p.temp_half + i));
+    _mm256_storeu_pd(p.temperature + i,
+                     _mm256_blendv_pd(_mm256_loadu_pd(p.temperature + i), temp, m));
+  }
+}
+
+// Calls group(i, resin, frozen) for each whole group of four particles
+// i .. i + 3 that holds some resin; returns the first particle after the
+// last whole group.
+template <int D, class Group>
+std::size_t resin_groups4(const Arrays<D>& p, Group&& group) {
+  std::size_t i = 0;
+  for (; i + 4 <= p.n; i += 4) {
+    const unsigned fluid = lanes::resin4(p.kind, i);
+    if (fluid == 0) continue;
+    group(i, fluid, p.frozen != nullptr ? lanes::set4(p.frozen, i) & fluid : 0u);
+  }
+  return i;
+}
+#endif
+
 }  // namespace leapfrog_detail
 
 #if defined(SPHDEM_PARTICLE_LANES)
@@ -156,6 +233,10 @@ void kick_drift_resin(SphParticles<D>& ps, double dt) {
   at = resin_groups<D>(p, [&](std::size_t i, __mmask8 fluid, __mmask8 frozen) {
     kick_drift_group<D>(p, i, fluid, frozen);
   });
+#elif defined(SPHDEM_PARTICLE_LANES4)
+  at = resin_groups4<D>(p, [&](std::size_t i, unsigned fluid, unsigned frozen) {
+    kick_drift_group4<D>(p, i, fluid, frozen);
+  });
 #endif
   for (; at < p.n; ++at) kick_drift_one<D>(p, at);
 }
@@ -185,6 +266,27 @@ bool kick_drift_resin_and_check(SphParticles<D>& ps, double dt, const NeighborLi
   if (i < p.n) {
     for (std::size_t j = i; j < p.n; ++j) kick_drift_one<D>(p, j);
     moved = moved || nl.moved_too_far(p.x, i, lanes::first(p.n - i));
+  }
+  return moved;
+#elif defined(SPHDEM_PARTICLE_LANES4)
+  using namespace leapfrog_detail;
+  if (nl.positions_at_build() != ps.n_owned) {  // needs_rebuild's first answer
+    kick_drift_resin<D>(ps, dt);
+    return true;
+  }
+  const Arrays<D> p = arrays(ps, dt, false);
+  bool moved = false;
+  std::size_t i = 0;
+  for (; i + 4 <= p.n; i += 4) {
+    const unsigned fluid = lanes::resin4(p.kind, i);
+    if (fluid != 0)
+      kick_drift_group4<D>(p, i, fluid,
+                           p.frozen != nullptr ? lanes::set4(p.frozen, i) & fluid : 0u);
+    moved = moved || nl.moved_too_far4(p.x, i);
+  }
+  if (i < p.n) {
+    for (std::size_t j = i; j < p.n; ++j) kick_drift_one<D>(p, j);
+    moved = moved || nl.moved_too_far(p.x, i, p.n - i);
   }
   return moved;
 #else
@@ -236,6 +338,10 @@ void kick_resin(SphParticles<D>& ps, double dt, bool density, bool thermal) {
   at = resin_groups<D>(p, [&](std::size_t i, __mmask8 fluid, __mmask8 frozen) {
     kick_group<D>(p, i, fluid, frozen, density);
   });
+#elif defined(SPHDEM_PARTICLE_LANES4)
+  at = resin_groups4<D>(p, [&](std::size_t i, unsigned fluid, unsigned frozen) {
+    kick_group4<D>(p, i, fluid, frozen, density);
+  });
 #endif
   for (; at < p.n; ++at) kick_one<D>(p, at, density);
 }
@@ -263,6 +369,21 @@ LocalExtremes kick_resin_and_extremes(SphParticles<D>& ps, double dt, bool densi
     for (std::size_t j = i; j < p.n; ++j) kick_one<D>(p, j, density);
     ex.add(ps, i, lanes::first(p.n - i));
   }
+  return ex.result();
+#elif defined(SPHDEM_PARTICLE_LANES4)
+  using namespace leapfrog_detail;
+  const Arrays<D> p = arrays(ps, dt, thermal);
+  ExtremesOneByOne<D> ex;
+  std::size_t i = 0;
+  for (; i + 4 <= p.n; i += 4) {
+    const unsigned fluid = lanes::resin4(p.kind, i);
+    if (fluid != 0)
+      kick_group4<D>(p, i, fluid, p.frozen != nullptr ? lanes::set4(p.frozen, i) & fluid : 0u,
+                     density);
+    ex.add4(ps, i);
+  }
+  for (std::size_t j = i; j < p.n; ++j) kick_one<D>(p, j, density);
+  ex.add(ps, i, p.n);
   return ex.result();
 #else
   kick_resin<D>(ps, dt, density, thermal);

@@ -59,6 +59,23 @@ class NeighborList {
   // (kick_drift_resin_and_check), so the step does not read them again.
   // Needs a build of the current owned particles; with AVX-512 only.
   bool moved_too_far(const double* x, std::size_t i, std::uint8_t valid) const;
+  // The same for particles i .. i + count - 1, one at a time (the builds
+  // without AVX-512; needs_rebuild runs it over all owned particles).
+  bool moved_too_far(const double* x, std::size_t i, std::size_t count) const {
+    for (std::size_t e = i + count; i < e; ++i) {
+      double d2 = 0.0;
+      for (int k = 0; k < D; ++k) {
+        const double d = x[D * i + static_cast<std::size_t>(k)] -
+                         static_cast<double>(x_at_build_[i][static_cast<std::size_t>(k)]);
+        d2 = lanes::mul_add(d, d, d2);
+      }
+      if (d2 <= quick_limit2_) continue;
+      if (beyond_own_limit(i, d2)) return true;
+    }
+    return false;
+  }
+  // The same for particles i .. i + 3, in 2D four at a time (AVX2).
+  bool moved_too_far4(const double* x, std::size_t i) const;
 
   std::size_t begin(std::size_t i) const { return offset_[i]; }
   std::size_t end(std::size_t i) const { return offset_[i + 1]; }
@@ -139,6 +156,39 @@ inline bool NeighborList<D>::moved_too_far(const double* x, std::size_t i,
     if (beyond_own_limit(i + static_cast<std::size_t>(l), each[l])) return true;
   }
   return false;
+}
+#endif
+
+#if defined(SPHDEM_PARTICLE_LANES4)
+template <int D>
+inline bool NeighborList<D>::moved_too_far4(const double* x, std::size_t i) const {
+  if constexpr (D != 2) {
+    return moved_too_far(x, i, std::size_t{4});
+  } else {
+    // x_at_build_'s floats of the four particles, widened exactly: the
+    // same layout as x (x0 y0 x1 y1 | x2 y2 x3 y3).
+    const __m256 then = _mm256_loadu_ps(x_at_build_[i].data());
+    const __m256d d[2] = {
+        _mm256_sub_pd(_mm256_loadu_pd(x + 2 * i), _mm256_cvtps_pd(_mm256_castps256_ps128(then))),
+        _mm256_sub_pd(_mm256_loadu_pd(x + 2 * i + 4),
+                      _mm256_cvtps_pd(_mm256_extractf128_ps(then, 1)))};
+    // Lanes 0 and 2: fma(dy, dy, dx dx), the one-particle form's d2.
+    alignas(32) double d2[2][4];
+    int far = 0;
+    for (int q = 0; q < 2; ++q) {
+      const __m256d swapped = _mm256_permute_pd(d[q], 0b0101);
+      const __m256d r = _mm256_fmadd_pd(swapped, swapped, _mm256_mul_pd(d[q], d[q]));
+      _mm256_store_pd(d2[q], r);
+      const int lanes =
+          _mm256_movemask_pd(_mm256_cmp_pd(r, _mm256_set1_pd(quick_limit2_), _CMP_NLE_UQ));
+      far |= (lanes & 1) << (2 * q) | ((lanes >> 2) & 1) << (2 * q + 1);
+    }
+    for (; far != 0; far &= far - 1) {
+      const int l = __builtin_ctz(static_cast<unsigned>(far));
+      if (beyond_own_limit(i + static_cast<std::size_t>(l), d2[l / 2][2 * (l % 2)])) return true;
+    }
+    return false;
+  }
 }
 #endif
 

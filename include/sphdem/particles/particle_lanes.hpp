@@ -10,6 +10,11 @@
 #if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__) && defined(__BMI2__)
 #include <immintrin.h>
 #define SPHDEM_PARTICLE_LANES 1
+#elif defined(__AVX2__) && defined(__FMA__)
+// Without AVX-512: four particles at a time in the resin's kicks
+// (src/solver/resin_leapfrog.hpp), with blends instead of mask registers.
+#include <immintrin.h>
+#define SPHDEM_PARTICLE_LANES4 1
 #endif
 
 #include "sphdem/particles/particles.hpp"
@@ -118,6 +123,45 @@ __m512d component(const __m512d (&r)[D], int d) {
   if constexpr (D == 3)
     c = _mm512_mask_permutexvar_pd(c, from_third, _mm512_load_si512(high), r[2]);
   return c;
+}
+#endif
+
+#if defined(SPHDEM_PARTICLE_LANES4)
+// Bit l: particle i + l is resin (i .. i + 3).
+inline unsigned resin4(const Kind* kind, std::size_t i) {
+  unsigned bits = 0;
+  for (unsigned l = 0; l < 4; ++l) bits |= (kind[i + l] == Kind::Fluid ? 1u : 0u) << l;
+  return bits;
+}
+
+// Bit l: flag[i + l] is not 0 (i .. i + 3).
+inline unsigned set4(const std::int32_t* flag, std::size_t i) {
+  unsigned bits = 0;
+  for (unsigned l = 0; l < 4; ++l) bits |= (flag[i + l] != 0 ? 1u : 0u) << l;
+  return bits;
+}
+
+// For each register q of four particles' D-vectors (particle l's doubles
+// are D l .. D l + D - 1) and each mask of the four particles, the
+// register's doubles that belong to them: all bits set, else 0.
+template <int D>
+struct VectorMasks4 {
+  alignas(32) long long m[D][16][4]{};
+  constexpr VectorMasks4() {
+    for (int q = 0; q < D; ++q)
+      for (unsigned bits = 0; bits < 16; ++bits)
+        for (int s = 0; s < 4; ++s) m[q][bits][s] = (bits >> ((4 * q + s) / D)) & 1u ? -1 : 0;
+  }
+};
+template <int D>
+inline constexpr VectorMasks4<D> kVectorMasks4{};
+
+// The blend mask of register q for the particles of `bits` (D = 1: a
+// scalar field, one double per particle).
+template <int D>
+__m256d vector_mask4(unsigned bits, int q) {
+  return _mm256_castsi256_pd(
+      _mm256_load_si256(reinterpret_cast<const __m256i*>(kVectorMasks4<D>.m[q][bits])));
 }
 #endif
 
