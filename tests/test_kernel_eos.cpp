@@ -137,9 +137,9 @@ TEST(TimeStep, PicksTheBindingLimit) {
 }
 
 // The pressure pass (compute_fluid_pressure) takes eight particles at a time
-// with AVX-512: every resin particle gets the bits of TaitEos::pressure (or
+// with AVX-512, four with AVX2: every resin particle gets the bits of TaitEos::pressure (or
 // the floor), its velocity as the one the viscous terms see; walls keep
-// theirs; the tail after the last group of eight too.
+// theirs; the tail after the last group too.
 TEST(TaitEos, PressurePassGivesEachParticleItsOwnPressure) {
   const TaitEos eos(900.0, 50.0, 7.0);
   std::mt19937 rng(4);

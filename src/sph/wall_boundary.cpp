@@ -111,7 +111,7 @@ std::vector<WallFaceSample> compute_wall_state(const SphParams& sp, const TaitEo
 }
 
 // With AVX-512 and the fast Tait path (gamma = 7), eight particles at a
-// time (tait_pressure7: the bits of TaitEos::pressure).
+// time, with AVX2 four (tait_pressure7: the bits of TaitEos::pressure).
 template <int D>
 void compute_fluid_pressure(const TaitEos& eos, double floor, SphParticles<D>& ps) {
   const std::size_t n = ps.size();
@@ -134,6 +134,30 @@ void compute_fluid_pressure(const TaitEos& eos, double floor, SphParticles<D>& p
         const std::size_t k = D * i + 8 * static_cast<std::size_t>(q);
         const __mmask8 m = lanes::vector_mask<D>(fluid, q);
         _mm512_mask_storeu_pd(vwall + k, m, _mm512_maskz_loadu_pd(m, v + k));
+      }
+    }
+  }
+#elif defined(SPHDEM_PARTICLE_LANES4)
+  // Four at a time (AVX2): the walls' values blended back as they were read.
+  if (eos.gamma() == 7.0 && n > 0) {
+    const Kind* const kind = ps.kind.data();
+    const double* const rho = ps.rho.data();
+    double* const p = ps.p.data();
+    const double* const v = ps.v.data()->data();
+    double* const vwall = ps.vwall.data()->data();
+    const __m256d lowest = _mm256_set1_pd(floor);
+    for (; i + 4 <= n; i += 4) {
+      const unsigned fluid = lanes::resin4(kind, i);
+      if (fluid == 0) continue;
+      __m256d pi = tait_pressure7(eos, _mm256_loadu_pd(rho + i));
+      pi = _mm256_blendv_pd(pi, lowest, _mm256_cmp_pd(pi, lowest, _CMP_LT_OQ));
+      _mm256_storeu_pd(
+          p + i, _mm256_blendv_pd(_mm256_loadu_pd(p + i), pi, lanes::vector_mask4<1>(fluid, 0)));
+      for (int q = 0; q < D; ++q) {
+        const std::size_t k = D * i + 4 * static_cast<std::size_t>(q);
+        _mm256_storeu_pd(vwall + k,
+                         _mm256_blendv_pd(_mm256_loadu_pd(vwall + k), _mm256_loadu_pd(v + k),
+                                          lanes::vector_mask4<D>(fluid, q)));
       }
     }
   }

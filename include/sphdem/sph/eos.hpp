@@ -6,7 +6,7 @@
 // bulk. gamma = 7 takes a fast path.
 #include <cmath>
 
-#if defined(__AVX512F__)
+#if defined(__AVX__)
 #include <immintrin.h>
 #endif
 
@@ -53,6 +53,15 @@ inline __m512d tait_pressure7(const TaitEos& eos, __m512d rho) {
   const __m512d s2 = _mm512_mul_pd(s, s);
   const __m512d s7 = _mm512_mul_pd(_mm512_mul_pd(_mm512_mul_pd(s2, s2), s2), s);
   return _mm512_mul_pd(_mm512_set1_pd(eos.b()), _mm512_sub_pd(s7, _mm512_set1_pd(1.0)));
+}
+#endif
+#if defined(__AVX__)
+// The same for four densities (AVX).
+inline __m256d tait_pressure7(const TaitEos& eos, __m256d rho) {
+  const __m256d s = _mm256_div_pd(rho, _mm256_set1_pd(eos.rho0()));
+  const __m256d s2 = _mm256_mul_pd(s, s);
+  const __m256d s7 = _mm256_mul_pd(_mm256_mul_pd(_mm256_mul_pd(s2, s2), s2), s);
+  return _mm256_mul_pd(_mm256_set1_pd(eos.b()), _mm256_sub_pd(s7, _mm256_set1_pd(1.0)));
 }
 #endif
 
