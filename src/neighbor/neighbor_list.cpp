@@ -437,6 +437,13 @@ bool NeighborList<D>::needs_rebuild(const SphParticles<D>& ps) const {
   for (std::size_t i = 0; i < ps.n_owned; i += 8)
     if (moved_too_far(ps.x.data()->data(), i, lanes::first(ps.n_owned - i))) return true;
   return false;
+#elif defined(SPHDEM_PARTICLE_LANES4)
+  if (ps.n_owned == 0) return false;
+  const double* const x = ps.x.data()->data();
+  std::size_t i = 0;
+  for (; i + 4 <= ps.n_owned; i += 4)
+    if (moved_too_far4(x, i)) return true;
+  return moved_too_far(x, i, ps.n_owned - i);
 #else
   return ps.n_owned > 0 && moved_too_far(ps.x.data()->data(), 0, ps.n_owned);
 #endif

@@ -150,12 +150,18 @@ __attribute__((optimize("fp-contract=off"))) LocalExtremes local_extremes_one_at
 // A frozen particle (below the no-flow temperature) holds its position: its
 // acceleration does not move it, so it does not limit the step either.
 // With AVX-512, eight particles at a time with the one-particle form's
-// operations: the maxima have its bits.
+// operations, with AVX2 four in 2D: the maxima have its bits.
 template <int D>
 LocalExtremes local_extremes(const SphParticles<D>& ps) {
 #if defined(SPHDEM_PARTICLE_LANES)
   ExtremeLanes<D> ex;
   for (std::size_t i = 0; i < ps.n_owned; i += 8) ex.add(ps, i, lanes::first(ps.n_owned - i));
+  return ex.result();
+#elif defined(SPHDEM_PARTICLE_LANES4)
+  ExtremesOneByOne<D> ex;
+  std::size_t i = 0;
+  for (; i + 4 <= ps.n_owned; i += 4) ex.add4(ps, i);
+  ex.add(ps, i, ps.n_owned);
   return ex.result();
 #else
   const LocalExtremes squares = local_extremes_one_at_a_time<D>(ps);
