@@ -1,7 +1,8 @@
 // The resin's kick-drift-kick passes (src/solver/resin_leapfrog.hpp): with
-// AVX-512 they take eight particles at a time; every particle must get the
-// bits of the one-particle form, whatever the mix of resin, wall and frozen
-// particles in its group of eight and the tail after the last whole group;
+// AVX-512 they take eight particles at a time, with AVX2 four; every
+// particle must get the bits of the one-particle form, whatever the mix of
+// resin, wall and frozen particles in its group and the tail after the last
+// whole group;
 // the one-particle form is the scheme of docs/physics.md by hand; and the
 // passes that also run the rebuild check and the time step's maxima give
 // what the separate passes give (docs/performance.md, "The streaming

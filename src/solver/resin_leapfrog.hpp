@@ -1,7 +1,8 @@
 #pragma once
 // The resin's kick-drift-kick passes (ResinModule::predict and correct,
 // docs/physics.md "Time integration"), eight particles at a time with
-// AVX-512 (docs/performance.md, "The passes over particles"): GCC does not
+// AVX-512 and four with AVX2 (docs/performance.md, "The passes over
+// particles", "The streaming passes with AVX2"): GCC does not
 // vectorize them itself (one-byte kinds beside D-double vectors). Each
 // particle's update reads only its own fields; every product that feeds a
 // sum is fused, in both forms (lanes::mul_add: where the build has FMA, as

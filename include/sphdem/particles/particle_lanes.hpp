@@ -1,8 +1,9 @@
 #pragma once
-// Eight particles at a time in the passes over particles that GCC does not
-// vectorize itself (one-byte kinds beside D-double vectors): which of
-// particles i .. i + 7 are resin, and the masks of their vectors' doubles
-// (docs/performance.md, "The passes over particles").
+// Eight particles at a time (AVX-512), or four (AVX2), in the passes over
+// particles that GCC does not vectorize itself (one-byte kinds beside
+// D-double vectors): which of particles i .. i + 7 are resin, and the masks
+// of their vectors' doubles (docs/performance.md, "The passes over
+// particles", "The streaming passes with AVX2").
 #include <cmath>
 #include <cstdint>
 #include <cstring>

@@ -1,6 +1,7 @@
 #pragma once
-// local_extremes' maxima eight particles at a time (AVX-512), kept in
-// registers group by group: local_extremes runs it over every owned
+// local_extremes' maxima eight particles at a time (AVX-512; with AVX2,
+// ExtremesOneByOne below, four at a time in 2D), kept in registers group by
+// group: local_extremes runs it over every owned
 // particle, and the second kick over each group it has just written
 // (kick_resin_and_extremes, src/solver/resin_leapfrog.hpp), so a step
 // reads the velocities and accelerations once for both.
