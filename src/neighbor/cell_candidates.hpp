@@ -4,7 +4,8 @@
 // cells, so the block's particles are gathered and put in list order
 // (global id, then position for periodic images) once per cell, and each
 // particle of the cell keeps those within its cut-off in that order: no
-// sort per particle. With AVX-512, eight candidates at a time.
+// sort per particle. With AVX-512, eight candidates at a time; with AVX2,
+// four (docs/performance.md, "The list build's search with AVX2").
 // Internal to src/neighbor/neighbor_list.cpp.
 #include <algorithm>
 #include <cmath>
@@ -14,6 +15,9 @@
 #if defined(__AVX512F__) && defined(__AVX512VL__)
 #include <immintrin.h>
 #define SPHDEM_CANDIDATES_AVX512 1
+#elif defined(__AVX2__) && defined(__FMA__)
+#include <immintrin.h>
+#define SPHDEM_CANDIDATES_AVX2 1
 #endif
 
 #include "sphdem/particles/particles.hpp"
@@ -91,6 +95,27 @@ void sort_packed(const SphParticles<D>& ps, std::uint64_t* key, std::size_t m,
   }
 }
 
+#if defined(SPHDEM_CANDIDATES_AVX2)
+// The byte shuffle that packs the 32-bit lanes of a 4-bit mask's set bits
+// to the front, in order (the rest of the register is left as garbage).
+struct PackFour {
+  alignas(16) std::uint8_t bytes[16][16];
+  constexpr PackFour() : bytes{} {
+    for (unsigned mask = 0; mask < 16; ++mask) {
+      unsigned to = 0;
+      for (unsigned lane = 0; lane < 4; ++lane)
+        if ((mask >> lane) & 1u) {
+          for (unsigned b = 0; b < 4; ++b)
+            bytes[mask][4 * to + b] = static_cast<std::uint8_t>(4 * lane + b);
+          ++to;
+        }
+      for (unsigned b = 4 * to; b < 16; ++b) bytes[mask][b] = 0x80;
+    }
+  }
+};
+inline constexpr PackFour kPackFour{};
+#endif
+
 // One cell's candidates in list order, structure of arrays, padded to a
 // multiple of 8 so that vector loads stay inside.
 template <int D>
@@ -148,6 +173,38 @@ class CellCandidates {
       // memory is microcoded and slow on some CPUs (AMD Zen 4).
       _mm256_storeu_si256(reinterpret_cast<__m256i*>(out + n),
                           _mm256_maskz_compress_epi32(keep, id));
+      n += static_cast<std::size_t>(__builtin_popcount(keep));
+    }
+#elif defined(SPHDEM_CANDIDATES_AVX2)
+    // Four at a time, the kept indices packed to the front of a register
+    // (kPackFour) and stored whole: no branch on the distance test, which
+    // goes either way about as often (the scalar form mispredicted it).
+    const double* x[D];
+    __m256d xv[D];
+    for (int d = 0; d < D; ++d) {
+      x[d] = x_[d].data();
+      xv[d] = _mm256_set1_pd(xi[d]);
+    }
+    const __m256d limit = _mm256_set1_pd(rc2);
+    const __m128i own = _mm_set1_epi32(self);
+    const unsigned no_walls = wall_i ? 0xffu : 0u;
+    for (std::size_t k = 0; k < m_; k += 4) {
+      const std::size_t left = m_ - k;
+      const unsigned valid = left >= 4 ? 0xfu : (1u << left) - 1u;
+      __m256d t = _mm256_sub_pd(xv[0], _mm256_loadu_pd(x[0] + k));
+      __m256d d2 = _mm256_mul_pd(t, t);
+      for (int d = 1; d < D; ++d) {
+        t = _mm256_sub_pd(xv[d], _mm256_loadu_pd(x[d] + k));
+        d2 = _mm256_fmadd_pd(t, t, d2);
+      }
+      const __m128i id = _mm_loadu_si128(reinterpret_cast<const __m128i*>(index + k));
+      unsigned keep =
+          valid & static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(d2, limit, _CMP_LT_OQ)));
+      keep &= ~static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(id, own))));
+      keep &= ~((walls[k / 8] & no_walls) >> (k % 8));
+      keep &= 0xfu;
+      const __m128i pack = _mm_load_si128(reinterpret_cast<const __m128i*>(kPackFour.bytes[keep]));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(out + n), _mm_shuffle_epi8(id, pack));
       n += static_cast<std::size_t>(__builtin_popcount(keep));
     }
 #else
