@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #if defined(__AVX512F__) && defined(__AVX512VL__)
@@ -46,8 +47,8 @@ bool image_before(const SphParticles<D>& ps, std::int32_t a, std::int32_t b) {
                                       ps.x[b].end());
 }
 
-// Sorts m distinct keys in place. Up to 64 keys with AVX-512: each key's
-// place is the count of keys below it (no branches); more, std::sort.
+// Sorts m distinct keys in place. Up to 64 keys with AVX-512 or AVX2: each
+// key's place is the count of keys below it (no branches); more, std::sort.
 inline void sort_keys(std::uint64_t* key, std::size_t m, std::vector<std::uint64_t>& spare) {
 #if defined(SPHDEM_CANDIDATES_AVX512)
   if (m <= 64) {
@@ -65,6 +66,33 @@ inline void sort_keys(std::uint64_t* key, std::size_t m, std::vector<std::uint64
       unsigned below = 0;
       for (std::size_t q = 0; q < regs; ++q)
         below += static_cast<unsigned>(__builtin_popcount(_mm512_cmplt_epu64_mask(r[q], b)));
+      spare[below] = key[a];
+    }
+    std::copy(spare.begin(), spare.begin() + static_cast<std::ptrdiff_t>(m), key);
+    return;
+  }
+#elif defined(SPHDEM_CANDIDATES_AVX2)
+  // The same count four keys at a time. AVX2 compares signed 64-bit
+  // integers: flipping every key's top bit keeps their unsigned order.
+  if (m <= 64) {
+    __m256i r[16];
+    const std::size_t regs = (m + 3) / 4;
+    const __m256i flip = _mm256_set1_epi64x(static_cast<long long>(1ULL << 63));
+    // The padding, above every flipped key (an index is below 2^31).
+    constexpr auto kTop = static_cast<std::uint64_t>(std::numeric_limits<long long>::max());
+    for (std::size_t q = 0; q < regs; ++q) {
+      alignas(32) std::uint64_t four[4];
+      for (std::size_t l = 0; l < 4; ++l)
+        four[l] = 4 * q + l < m ? key[4 * q + l] ^ (1ULL << 63) : kTop;
+      r[q] = _mm256_load_si256(reinterpret_cast<const __m256i*>(four));
+    }
+    spare.resize(std::max<std::size_t>(spare.size(), m));
+    for (std::size_t a = 0; a < m; ++a) {
+      const __m256i b = _mm256_xor_si256(_mm256_set1_epi64x(static_cast<long long>(key[a])), flip);
+      unsigned below = 0;
+      for (std::size_t q = 0; q < regs; ++q)
+        below += static_cast<unsigned>(__builtin_popcount(static_cast<unsigned>(
+            _mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpgt_epi64(b, r[q]))))));
       spare[below] = key[a];
     }
     std::copy(spare.begin(), spare.begin() + static_cast<std::ptrdiff_t>(m), key);
