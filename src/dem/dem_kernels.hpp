@@ -299,6 +299,10 @@ template <int D>
 void wall_forces(const DemParams<D>& p, double dt, const std::vector<DemWall<D>>& walls,
                  DemParticles<D>& ps, std::size_t i, const std::int32_t* cand,
                  std::int32_t n_cand) {
+  // No candidate wall: the build dropped the particle's wall history
+  // (dem_build_wall_lists), so there is nothing to do and its slots need not
+  // be read.
+  if (n_cand == 0) return;
   // Fast path, most particles: no wall within reach and no history to drop.
   bool busy = false;
   for (const auto& c : ps.wall_contacts[i]) busy = busy || c.partner != DemContact<D>::kNone;

@@ -167,8 +167,14 @@ double dem_max_displacement2(const DemParticles<D>& ps, const std::vector<DemWal
 
 // Per owned particle, the walls within its radius + skin: while neither it
 // nor a wall moves more than skin / 2, no other wall can touch it.
+// A particle with no candidate wall has its wall history dropped here: it
+// touches no wall until the next build, which its next force evaluation
+// would find, dropping the history then (wall_forces). With its slots
+// empty the force loops skip it without reading them (docs/dem.md,
+// "Walls"): reading every particle's slots was 8 % of the 4800-fiber
+// deck's loop (docs/performance.md, "The DEM walls' pass").
 template <int D>
-void dem_build_wall_lists(const std::vector<DemWall<D>>& walls, const DemParticles<D>& ps,
+void dem_build_wall_lists(const std::vector<DemWall<D>>& walls, DemParticles<D>& ps,
                           DemWorkspace<D>& ws) {
   ws.wall_start.assign(ps.n_owned + 1, 0);
   ws.wall_items.clear();
@@ -180,6 +186,7 @@ void dem_build_wall_lists(const std::vector<DemWall<D>>& walls, const DemParticl
         ws.wall_items.push_back(static_cast<std::int32_t>(w));
     }
     ws.wall_start[i + 1] = static_cast<std::int32_t>(ws.wall_items.size());
+    if (ws.wall_start[i + 1] == ws.wall_start[i]) ps.wall_contacts[i] = WallContactSlots<D>{};
   }
   ws.wall_ref.resize(walls.size());
   for (std::size_t w = 0; w < walls.size(); ++w) ws.wall_ref[w] = walls[w].point;
@@ -191,7 +198,7 @@ void dem_build_wall_lists(const std::vector<DemWall<D>>& walls, const DemParticl
   template void dem_store_pair_state<D>(DemParticles<D>&, const DemWorkspace<D>&);                 \
   template double dem_max_displacement2<D>(const DemParticles<D>&, const std::vector<DemWall<D>>&, \
                                            const DemWorkspace<D>&);                                \
-  template void dem_build_wall_lists<D>(const std::vector<DemWall<D>>&, const DemParticles<D>&,    \
+  template void dem_build_wall_lists<D>(const std::vector<DemWall<D>>&, DemParticles<D>&,          \
                                         DemWorkspace<D>&);
 SPHDEM_DEM_INSTANTIATE(2)
 SPHDEM_DEM_INSTANTIATE(3)

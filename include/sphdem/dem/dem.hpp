@@ -166,12 +166,13 @@ struct DemWorkspace {
 // Builds the pair list over owned and ghost particles (the contact history
 // read from the slots). Throws SimulationError when an owned particle's
 // bond partner is absent (not owned, not a ghost).
-// Also lists each owned particle's candidate walls (dem_build_wall_lists).
+// Also lists each owned particle's candidate walls (dem_build_wall_lists),
+// dropping the wall history of a particle with none.
 template <int D>
 void dem_build_pairs(const DemParams<D>& p, const std::vector<DemWall<D>>& walls,
                      DemParticles<D>& ps, DemWorkspace<D>& ws);
 template <int D>
-void dem_build_wall_lists(const std::vector<DemWall<D>>& walls, const DemParticles<D>& ps,
+void dem_build_wall_lists(const std::vector<DemWall<D>>& walls, DemParticles<D>& ps,
                           DemWorkspace<D>& ws);
 
 // Writes the contact history of the pairs back to the slots of their owned
