@@ -31,9 +31,10 @@ void compute_dem_bond_forces(const DemParams<D>& p, double dt, DemParticles<D>& 
                              DemWorkspace<D>& ws) {
   dem_detail::DemProfile& prof = dem_detail::dem_profile();
   dem_detail::DemTimer t_pairs(prof.pairs);
+  BondLawCache<D> laws(p);
   for (DemPair<D>& pr : ws.pairs) {
     if (!bonded(pr)) continue;
-    evaluate_pair<D>(p, dt, ps, pr);  // a bond that breaks leaves the set
+    evaluate_pair<D>(p, dt, ps, pr, laws);  // a bond that breaks leaves the set
     if (!pr.active) ws.bond_broke = true;
   }
   t_pairs.stop();
@@ -55,8 +56,9 @@ void compute_dem_slow_forces(const DemParams<D>& p, double dt, const std::vector
                              DemParticles<D>& ps, DemWorkspace<D>& ws) {
   dem_detail::DemProfile& prof = dem_detail::dem_profile();
   dem_detail::DemTimer t_pairs(prof.pairs);
+  BondLawCache<D> laws(p);
   for (DemPair<D>& pr : ws.pairs)
-    if (!bonded(pr)) evaluate_pair<D>(p, dt, ps, pr);
+    if (!bonded(pr)) evaluate_pair<D>(p, dt, ps, pr, laws);
   t_pairs.stop();
   dem_detail::DemTimer t_gather(prof.gather);
   const std::size_t n_own = ps.n_owned;

@@ -23,7 +23,8 @@ void compute_dem_forces(const DemParams<D>& p, double dt, const std::vector<DemW
   const std::size_t n_own = ps.n_owned;
   dem_detail::DemProfile& prof = dem_detail::dem_profile();
   dem_detail::DemTimer t_pairs(prof.pairs);
-  for (DemPair<D>& pr : ws.pairs) evaluate_pair<D>(p, dt, ps, pr);
+  BondLawCache<D> laws(p);
+  for (DemPair<D>& pr : ws.pairs) evaluate_pair<D>(p, dt, ps, pr, laws);
   t_pairs.stop();
   dem_detail::DemTimer t_gather(prof.gather);
   for (std::size_t i = 0; i < n_own; ++i) {

@@ -228,9 +228,33 @@ class PairDamping {
   double ma_ = -1, mb_ = -1, cn_ = 0, ct_ = 0;
 };
 
+// The bond law of the last radii asked for (a fiber's bonds share them):
+// bond_law's divisions and the stiffness's quotients once per kind of bond
+// instead of once per bond and step, the same values.
+template <int D>
+class BondLawCache {
+ public:
+  explicit BondLawCache(const DemParams<D>& p) : p_(p) {}
+  const terms::BondStiffness& get(double r1, double r2, double rbar) {
+    if (!(r1 == r1_ && r2 == r2_ && rbar == rbar_)) {
+      stiffness_ = terms::BondStiffness(bond_law(p_, r1, r2, rbar), rbar);
+      r1_ = r1;
+      r2_ = r2;
+      rbar_ = rbar;
+    }
+    return stiffness_;
+  }
+
+ private:
+  const DemParams<D>& p_;
+  double r1_ = -1, r2_ = -1, rbar_ = -1;
+  terms::BondStiffness stiffness_;
+};
+
 // Contact or bond of one pair at the current state; fills f, ta, tb.
 template <int D>
-void evaluate_pair(const DemParams<D>& p, double dt, DemParticles<D>& ps, DemPair<D>& pr) {
+void evaluate_pair(const DemParams<D>& p, double dt, DemParticles<D>& ps, DemPair<D>& pr,
+                   BondLawCache<D>& laws) {
   const auto i = static_cast<std::size_t>(pr.a), j = static_cast<std::size_t>(pr.b);
   const double ri = ps.radius[i], rj = ps.radius[j];
   const Vec<D> d = ps.x[j] - ps.x[i];
@@ -254,8 +278,8 @@ void evaluate_pair(const DemParams<D>& p, double dt, DemParticles<D>& ps, DemPai
     const terms::BondMotion<D> motion =
         terms::bond_motion<D>(d, dist, (ps.v[j] - ps.v[i]) * dt, ps.omega[i] * dt, ps.omega[j] * dt,
                               ri - 0.5 * delta, rj - 0.5 * delta);
-    const terms::BondLaw law = bond_law(p, ri, rj, bond->rbar);
-    const bool intact = terms::parallel_bond_update<D>(law, bond->rbar, motion, *bond);
+    const bool intact =
+        terms::parallel_bond_update<D>(laws.get(ri, rj, bond->rbar), motion, *bond);
     ps.bond_peaks[i][static_cast<std::size_t>(pr.bond)].record(bond->sigma, bond->tau);
     if (!intact) return;
     pr.f = bond->fn * nv + bond->fs;

@@ -51,6 +51,32 @@ struct BondLaw {
   double sigma_c = 0, tau_c = 0;
 };
 
+// A bond's law as the update uses it: stiffness times section, and the
+// stresses' factors as reciprocals, so that an update divides only where its
+// motion asks. A fiber's bonds share one (evaluate_pair keeps the last:
+// dem_kernels.hpp); the four divisions per update that the stresses took
+// cost about a fifteenth of the 4800-fiber deck's pair evaluation
+// (docs/performance.md, "The DEM bond's divisions").
+struct BondStiffness {
+  double kn_area = 0, ks_area = 0;      // kbar_n A, kbar_s A
+  double kn_inertia = 0, ks_polar = 0;  // kbar_n I, kbar_s J (3D)
+  double inv_area = 0;                  // 1 / A
+  double rbar_over_inertia = 0;         // Rbar / I
+  double rbar_over_polar = 0;           // Rbar / J (3D; 0 in 2D)
+  double sigma_c = 0, tau_c = 0;
+  BondStiffness() = default;
+  BondStiffness(const BondLaw& law, double rbar)
+      : kn_area(law.kn * law.s.area),
+        ks_area(law.ks * law.s.area),
+        kn_inertia(law.kn * law.s.inertia),
+        ks_polar(law.ks * law.s.polar),
+        inv_area(1.0 / law.s.area),
+        rbar_over_inertia(rbar / law.s.inertia),
+        rbar_over_polar(law.s.polar > 0 ? rbar / law.s.polar : 0.0),
+        sigma_c(law.sigma_c),
+        tau_c(law.tau_c) {}
+};
+
 // The exact rotation that takes unit a to unit b (about a x b). Applied to
 // vectors normal to a x b's plane it keeps their length to round-off.
 template <int D>
@@ -116,7 +142,7 @@ template <int D>
 // Advances the bond by one step. Returns false when the bond breaks now
 // (its forces are zeroed).
 template <int D>
-[[gnu::always_inline]] inline bool parallel_bond_update(const BondLaw& law, double rbar,
+[[gnu::always_inline]] inline bool parallel_bond_update(const BondStiffness& k,
                                                         const BondMotion<D>& m, DemBond<D>& b) {
   // Half the turn, the increments in the mid-step plane, the other half.
   // In 3D each half also spins F_s and M_b about nm by half the pair's spin.
@@ -134,27 +160,27 @@ template <int D>
   b.fs = m.half(b.fs);
   spin(b.fs);
   const Vec<D> us = m.du - m.du.dot(m.nm) * m.nm;
-  b.fn -= law.kn * law.s.area * m.dlen;
-  b.fs -= law.ks * law.s.area * us;
+  b.fn -= k.kn_area * m.dlen;
+  b.fs -= k.ks_area * us;
   spin(b.fs);
   b.fs = m.half(b.fs);
   if constexpr (D == 3) {
     b.mb = m.half(b.mb);
     spin(b.mb);
     const double twist = m.dtheta.dot(m.nm);
-    b.mt -= law.ks * law.s.polar * twist;
-    b.mb -= law.kn * law.s.inertia * (m.dtheta - twist * m.nm);
+    b.mt -= k.ks_polar * twist;
+    b.mb -= k.kn_inertia * (m.dtheta - twist * m.nm);
     spin(b.mb);
     b.mb = m.half(b.mb);
     b.mb -= b.mb.dot(m.n1) * m.n1;  // only round-off leaves the plane
   } else {
-    b.mb -= law.kn * law.s.inertia * m.dtheta;
+    b.mb -= k.kn_inertia * m.dtheta;
   }
   b.fs -= b.fs.dot(m.n1) * m.n1;
-  b.sigma = -b.fn / law.s.area + b.mb.norm() * rbar / law.s.inertia;
-  b.tau = b.fs.norm() / law.s.area;
-  if constexpr (D == 3) b.tau += std::abs(b.mt) * rbar / law.s.polar;
-  if (b.sigma >= law.sigma_c || b.tau >= law.tau_c) {
+  b.sigma = -b.fn * k.inv_area + b.mb.norm() * k.rbar_over_inertia;
+  b.tau = b.fs.norm() * k.inv_area;
+  if constexpr (D == 3) b.tau += std::abs(b.mt) * k.rbar_over_polar;
+  if (b.sigma >= k.sigma_c || b.tau >= k.tau_c) {
     b.broken = true;
     b.fn = 0;
     b.fs.setZero();
@@ -163,6 +189,13 @@ template <int D>
     return false;
   }
   return true;
+}
+
+// The same from the law and the bond's radius.
+template <int D>
+inline bool parallel_bond_update(const BondLaw& law, double rbar, const BondMotion<D>& m,
+                                 DemBond<D>& b) {
+  return parallel_bond_update<D>(BondStiffness(law, rbar), m, b);
 }
 
 // Elastic energy stored in the bond's springs.
