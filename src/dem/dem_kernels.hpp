@@ -278,8 +278,7 @@ void evaluate_pair(const DemParams<D>& p, double dt, DemParticles<D>& ps, DemPai
     const terms::BondMotion<D> motion =
         terms::bond_motion<D>(d, dist, (ps.v[j] - ps.v[i]) * dt, ps.omega[i] * dt, ps.omega[j] * dt,
                               ri - 0.5 * delta, rj - 0.5 * delta);
-    const bool intact =
-        terms::parallel_bond_update<D>(laws.get(ri, rj, bond->rbar), motion, *bond);
+    const bool intact = terms::parallel_bond_update<D>(laws.get(ri, rj, bond->rbar), motion, *bond);
     ps.bond_peaks[i][static_cast<std::size_t>(pr.bond)].record(bond->sigma, bond->tau);
     if (!intact) return;
     pr.f = bond->fn * nv + bond->fs;
