@@ -128,6 +128,51 @@ TEST(DemRectWall, SlidesOffTheEdge) {
 
 // The state of plane, segment and rectangle walls through a checkpoint;
 // another number or type of walls is refused.
+// A particle with no wall within reach at a pair-list build has its wall
+// history dropped there (dem_build_wall_lists), and the force loops skip it
+// without reading its slots; one whose wall is still a candidate keeps its
+// history until a force evaluation finds it apart (docs/dem.md, "Walls").
+TEST(DemRectWall, HistoryDroppedAtTheBuildOnlyWithoutCandidates) {
+  DemParams<3> p;
+  p.kn = kKn;
+  const std::vector<DemWall<3>> walls{floor_rect()};
+  const auto slots_used = [](const DemParticles<3>& ps, std::size_t i) {
+    int n = 0;
+    for (const auto& c : ps.wall_contacts[i]) n += c.partner != DemContact<3>::kNone;
+    return n;
+  };
+  DemParticles<3> ps;
+  ps.push_owned(0, -1, Vec<3>(0.5, 0.5, 0.06), kR, 1000, 1.0);  // touching the face
+  ps.push_owned(1, -1, Vec<3>(1.5, 0.5, 0.06), kR, 1000, 1.0);  // touching the face
+  ps.v[0] = ps.v[1] = Vec<3>(0.3, 0, 0);  // sliding: a tangential spring too
+  DemWorkspace<3> ws;
+  dem_build_pairs(p, walls, ps, ws);
+  compute_dem_forces(p, 1e-3, walls, ps, ws);
+  ASSERT_EQ(slots_used(ps, 0), 1);
+  ASSERT_EQ(slots_used(ps, 1), 1);
+  EXPECT_EQ(ps.wall_contacts[0][0].partner, wall_key(0));
+  EXPECT_GT(ps.wall_contacts[0][0].xi.norm(), 0.0);
+  // Particle 0 goes far beyond R + skin, particle 1 just beyond R but
+  // within R + skin (skin: a quarter of R here).
+  ps.x[0] = Vec<3>(0.5, 0.5, 0.5);
+  ps.x[1] = Vec<3>(1.5, 0.5, kR + 0.2 * ws.skin);
+  ASSERT_GT(ws.skin, 0.0);
+  dem_build_pairs(p, walls, ps, ws);
+  EXPECT_EQ(ws.wall_start[1] - ws.wall_start[0], 0) << "no candidate wall for particle 0";
+  EXPECT_EQ(ws.wall_start[2] - ws.wall_start[1], 1) << "the floor is particle 1's candidate";
+  EXPECT_EQ(slots_used(ps, 0), 0) << "history dropped at the build";
+  EXPECT_EQ(slots_used(ps, 1), 1) << "history kept until a force evaluation";
+  compute_dem_forces(p, 1e-3, walls, ps, ws);
+  EXPECT_EQ(slots_used(ps, 1), 0) << "the evaluation found it apart";
+  // No wall force on either: the forces of the same state without walls.
+  DemParticles<3> alone = ps;
+  DemWorkspace<3> ws_alone;
+  const std::vector<DemWall<3>> none;
+  dem_build_pairs(p, none, alone, ws_alone);
+  compute_dem_forces(p, 1e-3, none, alone, ws_alone);
+  for (std::size_t i = 0; i < 2; ++i) EXPECT_EQ(ps.force[i], alone.force[i]) << "particle " << i;
+}
+
 TEST(DemRectWall, CheckpointState) {
   std::vector<DemWall<3>> walls{
       DemWall<3>::plane(Vec<3>(0, 0, 1), Vec<3>(0, 0, 1), Vec<3>(1, 2, 3)),
