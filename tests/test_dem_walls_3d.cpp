@@ -144,7 +144,8 @@ TEST(DemRectWall, HistoryDroppedAtTheBuildOnlyWithoutCandidates) {
   DemParticles<3> ps;
   ps.push_owned(0, -1, Vec<3>(0.5, 0.5, 0.06), kR, 1000, 1.0);  // touching the face
   ps.push_owned(1, -1, Vec<3>(1.5, 0.5, 0.06), kR, 1000, 1.0);  // touching the face
-  ps.v[0] = ps.v[1] = Vec<3>(0.3, 0, 0);                        // sliding: a tangential spring too
+  // Sliding: a tangential spring too.
+  ps.v[0] = ps.v[1] = Vec<3>(0.3, 0, 0);
   DemWorkspace<3> ws;
   dem_build_pairs(p, walls, ps, ws);
   compute_dem_forces(p, 1e-3, walls, ps, ws);
