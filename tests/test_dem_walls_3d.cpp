@@ -1,5 +1,6 @@
 // 3D walls (docs/dem.md, "Walls"): a sphere against a rectangle (face, edge,
-// corner, reach, unflagged edges, sliding off an edge), the walls' state in
+// corner, reach, unflagged edges, sliding off an edge), the wall history
+// dropped at a pair-list build without candidate walls, the walls' state in
 // a checkpoint, and a 3D mold of boxes turned into rectangles
 // (dem_walls_from_case<3>): the boundary of the union, inward normals, one
 // owner per rim edge.
@@ -126,8 +127,6 @@ TEST(DemRectWall, SlidesOffTheEdge) {
   EXPECT_EQ(sys.particles.wall_contacts[0][0].partner, DemContact<3>::kNone);
 }
 
-// The state of plane, segment and rectangle walls through a checkpoint;
-// another number or type of walls is refused.
 // A particle with no wall within reach at a pair-list build has its wall
 // history dropped there (dem_build_wall_lists), and the force loops skip it
 // without reading its slots; one whose wall is still a candidate keeps its
@@ -174,6 +173,8 @@ TEST(DemRectWall, HistoryDroppedAtTheBuildOnlyWithoutCandidates) {
   for (std::size_t i = 0; i < 2; ++i) EXPECT_EQ(ps.force[i], alone.force[i]) << "particle " << i;
 }
 
+// The state of plane, segment and rectangle walls through a checkpoint;
+// another number or type of walls is refused.
 TEST(DemRectWall, CheckpointState) {
   std::vector<DemWall<3>> walls{
       DemWall<3>::plane(Vec<3>(0, 0, 1), Vec<3>(0, 0, 1), Vec<3>(1, 2, 3)),

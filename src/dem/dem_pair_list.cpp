@@ -172,7 +172,8 @@ double dem_max_displacement2(const DemParticles<D>& ps, const std::vector<DemWal
 // would find, dropping the history then (wall_forces). With its slots
 // empty the force loops skip it without reading them (docs/dem.md,
 // "Walls"): reading every particle's slots was 8 % of the 4800-fiber
-// deck's loop (docs/performance.md, "The DEM walls' pass").
+// deck's loop (docs/performance.md, "The DEM walls' pass and the bond's
+// divisions").
 template <int D>
 void dem_build_wall_lists(const std::vector<DemWall<D>>& walls, DemParticles<D>& ps,
                           DemWorkspace<D>& ws) {

@@ -54,9 +54,10 @@ struct BondLaw {
 // A bond's law as the update uses it: stiffness times section, and the
 // stresses' factors as reciprocals, so that an update divides only where its
 // motion asks. A fiber's bonds share one (evaluate_pair keeps the last:
-// dem_kernels.hpp); the four divisions per update that the stresses took
-// cost about a fifteenth of the 4800-fiber deck's pair evaluation
-// (docs/performance.md, "The DEM bond's divisions").
+// dem_kernels.hpp). The six divisions per update this saves (two building
+// the law, four in the stresses) were about a fifteenth of the 4800-fiber
+// deck's pair evaluation (docs/performance.md, "The DEM walls' pass and the
+// bond's divisions").
 struct BondStiffness {
   double kn_area = 0, ks_area = 0;      // kbar_n A, kbar_s A
   double kn_inertia = 0, ks_polar = 0;  // kbar_n I, kbar_s J (3D)
