@@ -235,20 +235,20 @@ template <int D>
 class BondLawCache {
  public:
   explicit BondLawCache(const DemParams<D>& p) : p_(p) {}
-  const terms::BondStiffness& get(double r1, double r2, double rbar) {
+  const terms::PreparedBondLaw& get(double r1, double r2, double rbar) {
     if (!(r1 == r1_ && r2 == r2_ && rbar == rbar_)) {
-      stiffness_ = terms::BondStiffness(bond_law(p_, r1, r2, rbar), rbar);
+      law_ = terms::PreparedBondLaw(bond_law(p_, r1, r2, rbar), rbar);
       r1_ = r1;
       r2_ = r2;
       rbar_ = rbar;
     }
-    return stiffness_;
+    return law_;
   }
 
  private:
   const DemParams<D>& p_;
   double r1_ = -1, r2_ = -1, rbar_ = -1;
-  terms::BondStiffness stiffness_;
+  terms::PreparedBondLaw law_;
 };
 
 // Contact or bond of one pair at the current state; fills f, ta, tb.

@@ -58,15 +58,15 @@ struct BondLaw {
 // the law, four in the stresses) were about a fifteenth of the 4800-fiber
 // deck's pair evaluation (docs/performance.md, "The DEM walls' pass and the
 // bond's divisions").
-struct BondStiffness {
+struct PreparedBondLaw {
   double kn_area = 0, ks_area = 0;      // kbar_n A, kbar_s A
   double kn_inertia = 0, ks_polar = 0;  // kbar_n I, kbar_s J (3D)
   double inv_area = 0;                  // 1 / A
   double rbar_over_inertia = 0;         // Rbar / I
   double rbar_over_polar = 0;           // Rbar / J (3D; 0 in 2D)
   double sigma_c = 0, tau_c = 0;
-  BondStiffness() = default;
-  BondStiffness(const BondLaw& law, double rbar)
+  PreparedBondLaw() = default;
+  PreparedBondLaw(const BondLaw& law, double rbar)
       : kn_area(law.kn * law.s.area),
         ks_area(law.ks * law.s.area),
         kn_inertia(law.kn * law.s.inertia),
@@ -143,7 +143,7 @@ template <int D>
 // Advances the bond by one step. Returns false when the bond breaks now
 // (its forces are zeroed).
 template <int D>
-[[gnu::always_inline]] inline bool parallel_bond_update(const BondStiffness& k,
+[[gnu::always_inline]] inline bool parallel_bond_update(const PreparedBondLaw& k,
                                                         const BondMotion<D>& m, DemBond<D>& b) {
   // Half the turn, the increments in the mid-step plane, the other half.
   // In 3D each half also spins F_s and M_b about nm by half the pair's spin.
@@ -196,7 +196,7 @@ template <int D>
 template <int D>
 inline bool parallel_bond_update(const BondLaw& law, double rbar, const BondMotion<D>& m,
                                  DemBond<D>& b) {
-  return parallel_bond_update<D>(BondStiffness(law, rbar), m, b);
+  return parallel_bond_update<D>(PreparedBondLaw(law, rbar), m, b);
 }
 
 // Elastic energy stored in the bond's springs.
