@@ -371,6 +371,83 @@ TEST(SphPairLoop, OneParticlePerLaneGivesTheBitsOfOneAtATime) {
   });
 }
 
+// The one-particle-per-lane form's slot indices, four lanes of 16-bit lists
+// at a time (narrow_slots4): the indices the fill element by element gives,
+// the far record past each list's end, for lists of every length against
+// every other (whole and partial blocks of four, empty lanes) and offsets of
+// both signs. Each row lies at the end of its own array, so a read past it
+// would leave the array.
+TEST(SphPairLoop, NarrowSlotsAreTheListsSlotBySlot) {
+#if defined(__AVX2__)
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> offset(-32767, 32767);
+  const std::int32_t far = 1 << 30;
+  int cases = 0;
+  for (std::size_t l0 = 0; l0 <= 9; ++l0) {
+    for (std::size_t l1 : {std::size_t{0}, std::size_t{1}, std::size_t{4}, std::size_t{7}}) {
+      for (std::size_t l2 : {std::size_t{3}, std::size_t{8}}) {
+        for (std::size_t l3 : {std::size_t{0}, std::size_t{5}, std::size_t{12}}) {
+          const std::size_t len[4] = {l0, l1, l2, l3};
+          std::vector<std::int16_t> rows[4];
+          const std::int16_t* row[4];
+          std::int32_t base[4];
+          for (int l = 0; l < 4; ++l) {
+            rows[l].resize(len[l]);
+            for (auto& o : rows[l]) o = static_cast<std::int16_t>(offset(rng));
+            row[l] = rows[l].data();
+            base[l] = 40000 + 1000 * l;
+          }
+          const std::size_t slots = std::max({l0, l1, l2, l3}) + 1;
+          std::vector<std::int32_t> got(4 * (slots + 3), -1);
+          terms::narrow_slots4(row, base, len, slots, far, got.data());
+          for (std::size_t k = 0; k < slots; ++k)
+            for (std::size_t l = 0; l < 4; ++l)
+              ASSERT_EQ(got[k * 4 + l], k < len[l] ? base[l] + rows[l][k] : far)
+                  << "slot " << k << " lane " << l << " of lists " << l0 << ' ' << l1 << ' ' << l2
+                  << ' ' << l3;
+          ++cases;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(cases, 10 * 4 * 2 * 3);
+#else
+  GTEST_SKIP() << "narrow_slots4 is built with AVX2 only";
+#endif
+}
+
+// Four records as lane rows in registers (records_to_lanes4): lanes_of's
+// values for every row, for records of an even and of an odd length.
+template <std::size_t kSize>
+void expect_records_to_lanes4() {
+#if defined(__AVX__)
+  double recs[4][kSize];
+  for (int l = 0; l < 4; ++l)
+    for (std::size_t c = 0; c < kSize; ++c) recs[l][c] = 100.0 * l + static_cast<double>(c) + 0.25;
+  const double* const rec[4] = {recs[0], recs[1], recs[2], recs[3]};
+  __m256d rows[kSize];
+  terms::records_to_lanes4(rec, rows);
+  for (std::size_t c = 0; c < kSize; ++c) {
+    __m256d want;
+    terms::lanes_of(rec, c, want);
+    double a[4], b[4];
+    __builtin_memcpy(a, &rows[c], sizeof a);
+    __builtin_memcpy(b, &want, sizeof b);
+    for (int l = 0; l < 4; ++l) EXPECT_EQ(a[l], b[l]) << "row " << c << " lane " << l;
+  }
+#endif
+}
+
+TEST(SphPairLoop, RecordsToLanesFourAtATime) {
+#if defined(__AVX__)
+  expect_records_to_lanes4<12>();
+  expect_records_to_lanes4<11>();
+  expect_records_to_lanes4<1>();
+#else
+  GTEST_SKIP() << "records_to_lanes4 is built with AVX only";
+#endif
+}
+
 // A term written outside the library: a per-particle prepared field (the
 // record computes it once per particle), a per-particle part and a pair
 // function. It joins the loop through a term list alone.

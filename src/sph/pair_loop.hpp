@@ -390,6 +390,71 @@ VR lane_add(VR sum, VR x) {
   __asm__("" : "+v"(x));
   return sum + x;
 }
+#if defined(__AVX__)
+// Four records' first kSize doubles as lane rows, rows[c] lane l =
+// rec[l][c] (lanes_of for every c at once): two doubles of each record at
+// a time, records 0 and 2 in one register and 1 and 3 in another, then one
+// unpack per row, the gather's transpose (lane_gather.hpp). The same values
+// as lanes_of, in registers instead of through memory.
+template <std::size_t kSize>
+SPHDEM_INLINE inline void records_to_lanes4(const double* const (&rec)[4], __m256d (&rows)[kSize]) {
+  std::size_t c = 0;
+  for (; c + 1 < kSize; c += 2) {
+    const __m256d a = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(rec[0] + c)),
+                                           _mm_loadu_pd(rec[2] + c), 1);
+    const __m256d b = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(rec[1] + c)),
+                                           _mm_loadu_pd(rec[3] + c), 1);
+    rows[c] = _mm256_unpacklo_pd(a, b);
+    rows[c + 1] = _mm256_unpackhi_pd(a, b);
+  }
+  if (c < kSize) rows[c] = _mm256_setr_pd(rec[0][c], rec[1][c], rec[2][c], rec[3][c]);
+}
+#endif
+
+#if defined(__AVX2__)
+// The one-particle-per-lane form's slot indices for four lanes whose lists
+// are all 16-bit (NeighborRow::narrow): out[k * 4 + l] = row[l][k] +
+// base[l] for k < len[l], `far` for len[l] <= k < slots. Four slots at a
+// time: each lane's four offsets widened and added to its index, then a 4 x
+// 4 transpose in registers and four 16-byte stores, where the fill element
+// by element stored each index on its own. out must hold 4 * slots rounded
+// up to a multiple of 16. No row is read past its end.
+inline void narrow_slots4(const std::int16_t* const (&row)[4], const std::int32_t (&base)[4],
+                          const std::size_t (&len)[4], std::size_t slots, std::int32_t far,
+                          std::int32_t* out) {
+  const __m128i far4 = _mm_set1_epi32(far);
+  for (std::size_t k = 0; k < slots; k += 4) {
+    __m128i v[4];
+    for (int l = 0; l < 4; ++l) {
+      if (k >= len[l]) {
+        v[l] = far4;
+        continue;
+      }
+      const std::size_t have = len[l] - k;
+      std::int64_t four = 0;  // the row's next offsets, zeros past its end
+      if (have >= 4)
+        __builtin_memcpy(&four, row[l] + k, sizeof four);
+      else
+        for (std::size_t t = 0; t < have; ++t)
+          four |= static_cast<std::int64_t>(static_cast<std::uint16_t>(row[l][k + t])) << (16 * t);
+      v[l] = _mm_add_epi32(_mm_cvtepi16_epi32(_mm_cvtsi64_si128(four)), _mm_set1_epi32(base[l]));
+      if (have < 4) {  // positions t >= have take the far record
+        const __m128i past =
+            _mm_cmpgt_epi32(_mm_setr_epi32(0, 1, 2, 3), _mm_set1_epi32(static_cast<int>(have) - 1));
+        v[l] = _mm_blendv_epi8(v[l], far4, past);
+      }
+    }
+    const __m128i t0 = _mm_unpacklo_epi32(v[0], v[1]), t1 = _mm_unpacklo_epi32(v[2], v[3]);
+    const __m128i t2 = _mm_unpackhi_epi32(v[0], v[1]), t3 = _mm_unpackhi_epi32(v[2], v[3]);
+    __m128i* const o = reinterpret_cast<__m128i*>(out + 4 * k);
+    _mm_storeu_si128(o, _mm_unpacklo_epi64(t0, t1));
+    _mm_storeu_si128(o + 1, _mm_unpackhi_epi64(t0, t1));
+    _mm_storeu_si128(o + 2, _mm_unpacklo_epi64(t2, t3));
+    _mm_storeu_si128(o + 3, _mm_unpackhi_epi64(t2, t3));
+  }
+}
+#endif
+
 // r2 < least ? r2 : least, lane by lane.
 template <class VR>
 VR lane_least(VR least, VR r2) {
@@ -603,7 +668,10 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             const double* own_rec[W];
             for (int l = 0; l < W; ++l) own_rec[l] = rec[ids[l]].v;
             VR own_rows[Record::kSize];
-            for (std::size_t c = 0; c < Record::kSize; ++c) lanes_of(own_rec, c, own_rows[c]);
+            if constexpr (W == 4)
+              records_to_lanes4(own_rec, own_rows);
+            else
+              for (std::size_t c = 0; c < Record::kSize; ++c) lanes_of(own_rec, c, own_rows[c]);
             const auto bound = std::make_tuple(for_particle(
                 std::get<typename S::Term>(terms),
                 OwnView<Record,
@@ -618,8 +686,27 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             std::size_t most = 0;
             for (int l = 0; l < m; ++l) most = std::max(most, nl.end(ids[l]) - nl.begin(ids[l]));
             const auto far = static_cast<std::int32_t>(n);
-            slot_index.resize(W * (most + 1));
-            for (int l = 0; l < W; ++l) {
+            // (Room for the narrow fill's whole blocks of four slots.)
+            slot_index.resize(W * (most + 4));
+            bool narrow = false;
+#if defined(__AVX2__)
+            if constexpr (W == 4) {
+              const std::int16_t* row[4] = {};
+              std::int32_t base[4] = {};
+              std::size_t len[4] = {};
+              narrow = true;
+              for (int l = 0; l < m && narrow; ++l) {
+                const NeighborRow nb = nl.row(ids[l]);
+                narrow = nb.narrow() != nullptr;
+                if (!narrow) break;
+                row[l] = nb.narrow() + nl.begin(ids[l]);
+                base[l] = nb.base();
+                len[l] = nl.end(ids[l]) - nl.begin(ids[l]);
+              }
+              if (narrow) narrow_slots4(row, base, len, most + 1, far, slot_index.data());
+            }
+#endif
+            for (int l = 0; l < W && !narrow; ++l) {
               std::size_t k = 0;
               if (l < m) {
                 const NeighborRow nb = nl.row(ids[l]);

@@ -27,6 +27,11 @@ class NeighborRow {
   std::int32_t operator[](std::size_t n) const {
     return wide_ != nullptr ? wide_[n - shift_] : base_ + narrow_[n];
   }
+  // A 16-bit row's offsets (null for a 32-bit row) and the index they are
+  // offsets from: nb[n] == base() + narrow()[n]. For loops that decode a
+  // row several entries at a time (the pair loop's slots, pair_loop.hpp).
+  const std::int16_t* narrow() const { return wide_ == nullptr ? narrow_ : nullptr; }
+  std::int32_t base() const { return base_; }
 
  private:
   const std::int16_t* narrow_ = nullptr;
