@@ -779,7 +779,13 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               if constexpr (kSide) {
                 if (side) {
                   bool side_i = true;
-                  if constexpr (requires { Side::template wanted<D>(sp, ps, i); })
+                  if constexpr (requires { Side::wanted_from(sp, 0.0); } &&
+                                contains_v<typename Side::WantedFrom, typename N::RecordFields>)
+                    // From the particle's record, computed once already
+                    // (FreeSurfaceFlag::WantedFrom).
+                    side_i = Side::wanted_from(
+                        sp, own_rec[l][Record::template offset<typename Side::WantedFrom>()]);
+                  else if constexpr (requires { Side::template wanted<D>(sp, ps, i); })
                     side_i = Side::template wanted<D>(sp, ps, i);
                   const double sums[1] = {side_out[l]};
                   Side::output(ps)[i] = side_i ? Side{}.template finish<D>(sums) : 0.0;

@@ -72,7 +72,14 @@ struct FreeSurfaceFlag {
   // computed exactly where it changes R_a.
   template <int D>
   static bool wanted(const SphParams& sp, const SphParticles<D>& ps, std::size_t i) {
-    return anti_clump_r(sp.anti_clump_eps, pressure_over_rho2(ps.p[i], ps.rho[i])) != 0.0;
+    return wanted_from(sp, pressure_over_rho2(ps.p[i], ps.rho[i]));
+  }
+  // The same from P_i / rho_i^2 as particle i's record holds it (field::PoR2
+  // is pressure_over_rho2, the same bits): the pair loop asks its records,
+  // with no division per particle.
+  using WantedFrom = field::PoR2;
+  static bool wanted_from(const SphParams& sp, double p_over_rho2) {
+    return anti_clump_r(sp.anti_clump_eps, p_over_rho2) != 0.0;
   }
   template <class P, class V>
   void pair(const P& p, V* s) const {
