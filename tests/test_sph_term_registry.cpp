@@ -1,8 +1,10 @@
 // The registry of SPH pair terms (src/sph/sph_terms.hpp) and the pair loop
 // generated from it (src/sph/pair_loop.hpp): which combination a case
 // selects, which fields its record holds, that the generated loop equals a
-// direct sum of the terms' formulas, and that a term written outside the
-// library joins the loop through a term list alone.
+// direct sum of the terms' formulas, that a term written outside the
+// library joins the loop through a term list alone, and the one-particle-
+// per-lane form's helpers (the slot indices of four 16-bit lists, four
+// records as lane rows).
 #include <gtest/gtest.h>
 
 #include <algorithm>
