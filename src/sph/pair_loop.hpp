@@ -417,8 +417,8 @@ SPHDEM_INLINE inline void records_to_lanes4(const double* const (&rec)[4], __m25
 // base[l] for k < len[l], `far` for len[l] <= k < slots. Four slots at a
 // time: each lane's four offsets widened and added to its index, then a 4 x
 // 4 transpose in registers and four 16-byte stores, where the fill element
-// by element stored each index on its own. out must hold 4 * slots rounded
-// up to a multiple of 16. No row is read past its end.
+// by element stored each index on its own. out must have room for 4 times
+// slots rounded up to a multiple of four. No row is read past its end.
 inline void narrow_slots4(const std::int16_t* const (&row)[4], const std::int32_t (&base)[4],
                           const std::size_t (&len)[4], std::size_t slots, std::int32_t far,
                           std::int32_t* out) {
