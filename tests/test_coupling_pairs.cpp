@@ -57,6 +57,9 @@ std::vector<double> pass(const Scene<D>& base, CouplingState<D>& st, const Coupl
     out.push_back(c.dem.void_fraction[f]);
     out.push_back(c.dem.drag_coeff[f]);
     out.push_back(c.dem.torque_coeff[f]);
+    // The parcel mass counts the DEM neighbours within the support: the
+    // skin's candidates beyond it must not count.
+    if (s.exponential_drag) out.push_back(c.dem.drag_parcel_mass[f]);
     for (int a = 0; a < D; ++a) out.push_back(c.dem.resin_velocity[f][a]);
   }
   for (std::size_t r = 0; r < c.sph.n_owned; ++r) {
@@ -68,7 +71,7 @@ std::vector<double> pass(const Scene<D>& base, CouplingState<D>& st, const Coupl
 }
 
 template <int D>
-void check_kept_pairs(unsigned seed) {
+void check_kept_pairs(unsigned seed, bool exponential = false) {
   const double dp = 3e-4, h = 1.2 * dp, support = 2 * h;
   std::mt19937 gen(seed);
   Scene<D> scene = random_scene<D>(gen, dp);
@@ -77,6 +80,7 @@ void check_kept_pairs(unsigned seed) {
   s.drag.mu = 0.1;
   s.h = h;
   s.thickness = 1e-3;
+  s.exponential_drag = exponential;
   CouplingState<D> kept, fresh;
   kept.keep_pairs = true;
   kept.skin = 0.2 * support;
@@ -112,6 +116,14 @@ TEST(CouplingPairs, KeptPairsGiveTheFreshSearchResults2D) {
 }
 TEST(CouplingPairs, KeptPairsGiveTheFreshSearchResults3D) {
   check_kept_pairs<3>(12);
+}
+// With the exponential drag the DEM neighbours are counted (the parcel
+// mass): it fails when the filter keeps a candidate beyond the support.
+TEST(CouplingPairs, KeptPairsGiveTheFreshSearchResultsWithExponentialDrag2D) {
+  check_kept_pairs<2>(14, true);
+}
+TEST(CouplingPairs, KeptPairsGiveTheFreshSearchResultsWithExponentialDrag3D) {
+  check_kept_pairs<3>(15, true);
 }
 
 // The DEM particles reordered under the same generation and positions would

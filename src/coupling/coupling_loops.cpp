@@ -35,13 +35,21 @@ template <int D>
 void near_in_list(const std::vector<std::int32_t>& items, std::int32_t begin, std::int32_t end,
                   const std::vector<Vec<D>>& x, const Vec<D>& p, double support,
                   std::vector<Near>& out) {
-  out.clear();
+  // Every candidate written, the count advanced only for those within the
+  // support: no branch on the distance, which the skin makes unpredictable
+  // (docs/performance.md, "The coupling's filters without branches"). The
+  // square roots after, of the same r^2: the same values.
   const double support2 = support * support;
+  out.resize(static_cast<std::size_t>(std::max(end - begin, 0)));
+  std::size_t n = 0;
   for (std::int32_t k = begin; k < end; ++k) {
     const std::int32_t j = items[static_cast<std::size_t>(k)];
     const double r2 = (p - x[static_cast<std::size_t>(j)]).squaredNorm();
-    if (r2 < support2) out.push_back({j, std::sqrt(r2)});
+    out[n] = Near{j, r2};  // r holds r^2 until the square roots below
+    n += r2 < support2 ? 1 : 0;
   }
+  out.resize(n);
+  for (Near& e : out) e.r = std::sqrt(e.r);
 }
 
 template <int D>
