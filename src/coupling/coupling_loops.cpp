@@ -204,6 +204,8 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
     slots[k].vol = sph.mass[r] / sph.rho[r];
   }
   const double support2 = support * support;
+  thread_local std::vector<std::int32_t> kept;
+  thread_local std::vector<double> kept_dist;
   for (const std::int32_t fi : pairs.dem_order) {
     const auto f = static_cast<std::size_t>(fi);
     const double vol_f = dem_volume(dem, f);
@@ -212,15 +214,31 @@ Vec<D> reaction_on_resin(const CouplingSettings& s, const DemParticles<D>& dem,
     // sum_f (V_r W_fr / S_f) K_f V_f: the drag coefficient r is held by [kg/s].
     const double coeff_per_weight =
         dem.shepard_sum[f] > 0.0 ? dem.drag_coeff[f] / dem.shepard_sum[f] : 0.0;
-    for (std::int32_t c = pairs.resin_start[f]; c < pairs.resin_start[f + 1]; ++c) {
-      const std::int32_t k = pairs.resin_slot[static_cast<std::size_t>(c)];
-      if (k < 0) continue;  // a ghost: its owner receives
-      auto& slot = slots[static_cast<std::size_t>(k)];
+    // The candidates that receive, owned (a ghost's owner receives) and
+    // within the support, in list order, and their distances: the square
+    // roots in a loop of their own, off each pair's chain
+    // (docs/performance.md, "The coupling's filters without branches").
+    const std::int32_t c0 = pairs.resin_start[f], c1 = pairs.resin_start[f + 1];
+    const auto n_cand = static_cast<std::size_t>(std::max(c1 - c0, 0));
+    kept.resize(n_cand);
+    kept_dist.resize(n_cand);
+    std::size_t n_kept = 0;
+    for (std::int32_t c = c0; c < c1; ++c) {
       const auto r = static_cast<std::size_t>(pairs.resin_items[static_cast<std::size_t>(c)]);
       const Vec<D> d = sph.x[r] - dem.x[f];
       const double dist2 = d.squaredNorm();
-      if (dist2 >= support2) continue;
-      const double dist = std::sqrt(dist2);
+      kept[n_kept] = c;
+      kept_dist[n_kept] = dist2;
+      n_kept += (pairs.resin_slot[static_cast<std::size_t>(c)] >= 0) & (dist2 < support2) ? 1 : 0;
+    }
+    for (std::size_t e = 0; e < n_kept; ++e) kept_dist[e] = std::sqrt(kept_dist[e]);
+    for (std::size_t e = 0; e < n_kept; ++e) {
+      const std::int32_t c = kept[e];
+      const std::int32_t k = pairs.resin_slot[static_cast<std::size_t>(c)];
+      auto& slot = slots[static_cast<std::size_t>(k)];
+      const auto r = static_cast<std::size_t>(pairs.resin_items[static_cast<std::size_t>(c)]);
+      const Vec<D> d = sph.x[r] - dem.x[f];
+      const double dist = kept_dist[e];
       const double w = kernel.w(dist);
       slot.force += (slot.vol * w) * share;
       if (s.hydrodynamic_torque) {
