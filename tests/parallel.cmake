@@ -6,3 +6,7 @@
 sphdem_test(test_parallel SOURCES test_parallel.cpp RANKS 1 2 3 4 LABELS mpi TIMEOUT 600
             MULTI_RANK_TESTS "RankIndependence.*:LoadBalance.*:MeasuredTime.*:Snapshots.*"
             ONE_RANK_TESTS "CellGrid.*:Partition.*")
+
+# Per-step busy times and the lag behind each step's slowest rank
+# (docs/parallel.md, "Per-step times").
+sphdem_test(test_step_times SOURCES test_step_times.cpp RANKS 1 2 3 LABELS "unit;mpi")

@@ -28,6 +28,7 @@
 #include <numeric>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -603,9 +604,24 @@ TEST(Timings, RunWritesOneRowPerRank) {
   ASSERT_TRUE(csv) << "timings.csv";
   std::string line;
   std::getline(csv, line);
-  EXPECT_EQ(line, "rank,compute,halo,migration,rebalance,io,wait,dem,coupling,total");
+  EXPECT_EQ(line,
+            "rank,compute,halo,migration,rebalance,io,wait,dem,coupling,total,busy,steps,"
+            "step_mean,step_p10,step_p50,step_p90,step_max,step_lag,imbalance");
   int rows = 0;
-  while (std::getline(csv, line)) ++rows;
+  while (std::getline(csv, line)) {
+    ++rows;
+    // Every rank timed the 20 steps; its lag behind each step's slowest
+    // rank is at least its share of the totals' imbalance (the sum of the
+    // steps' maxima is at least the largest sum).
+    std::vector<double> v;
+    std::stringstream fields(line);
+    for (std::string f; std::getline(fields, f, ',');) v.push_back(std::stod(f));
+    ASSERT_EQ(v.size(), 19u) << line;  // rank, 8 phases, total, 9 per-step columns
+    EXPECT_EQ(v[11], 20) << line;
+    EXPECT_GT(v[10], 0) << "busy " << line;
+    EXPECT_LE(v[10], v[9] + 1e-6) << "busy within the total " << line;
+    EXPECT_GE(v[17] + 1e-6, v[18]) << "lag >= imbalance " << line;
+  }
   EXPECT_EQ(rows, world.size());
   EXPECT_TRUE(std::filesystem::exists(opt.output_dir + "/timings.json"));
 }

@@ -215,6 +215,7 @@ void Run<D>::report_progress(double elapsed, std::int64_t steps_done, bool force
 template <int D>
 RunSummary Run<D>::run() {
   timers_.reset();
+  step_times_.reset();
   const auto t0 = std::chrono::steady_clock::now();
   const auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -231,7 +232,14 @@ RunSummary Run<D>::run() {
   try {
     while (clock_.time < end * (1 - 1e-12) && (!opt_.max_steps || clock_.step < *opt_.max_steps)) {
       set_current_step(clock_.step + 1);
+      const auto step_start = std::chrono::steady_clock::now();
+      const double idle_before = timers_.idle_seconds();
       do_step();
+      step_times_.record(seconds_since(step_start) - (timers_.idle_seconds() - idle_before));
+      if (step_times_.block_full()) {
+        ScopedPhase t(timers_, Phase::Wait);
+        step_times_.fold(comm_);
+      }
       inject_step_fault(comm_.rank(), clock_.step);  // tests only (fault.hpp)
       if (clock_.step % kHealthEvery == 0) check_health();
       report_progress(elapsed(), clock_.step - step0, false);
@@ -278,7 +286,8 @@ RunSummary Run<D>::run() {
   const int every = case_.output.progress_every;
   if (every <= 0 || clock_.step % every != 0) report_progress(s.wall_seconds, s.steps, true);
   s.snapshots = snapshots_;
-  report_timings(comm_, timers_, s.wall_seconds, opt_.log,
+  step_times_.fold(comm_);  // the last, partial block
+  report_timings(comm_, timers_, s.wall_seconds, step_times_.summary(), opt_.log,
                  opt_.write_output ? opt_.output_dir : std::string());
   return s;
 }

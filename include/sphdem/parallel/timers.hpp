@@ -9,6 +9,7 @@
 #include <string>
 
 #include "sphdem/parallel/comm.hpp"
+#include "sphdem/parallel/step_times.hpp"
 
 namespace sphdem {
 
@@ -68,11 +69,13 @@ class ScopedPhase {
   PhaseTimers::Clock::time_point start_;
 };
 
-// Collective. Gathers every rank's split of a run of `total` seconds to rank
-// 0, which prints a table to `log` (when not null) and, when `directory` is
-// not empty, writes <directory>/timings.csv and timings.json (one row per
-// rank). Returns the table text on rank 0, empty elsewhere.
+// Collective. Gathers every rank's split of a run of `total` seconds and its
+// per-step times to rank 0, which prints two tables to `log` (when not null)
+// and, when `directory` is not empty, writes <directory>/timings.csv and
+// timings.json (one row per rank). Returns the tables' text on rank 0,
+// empty elsewhere.
 std::string report_timings(const Comm& comm, const PhaseTimers& timers, double total,
-                           std::ostream* log, const std::string& directory);
+                           const StepTimes::Summary& steps, std::ostream* log,
+                           const std::string& directory);
 
 }  // namespace sphdem

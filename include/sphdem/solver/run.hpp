@@ -201,6 +201,7 @@ class Run {
   RunOptions opt_;
   Clock clock_;
   mutable PhaseTimers timers_;  // instrumentation, also of const methods
+  StepTimes step_times_;        // each step's busy time (docs/parallel.md, "Per-step times")
   std::vector<WallMotion> walls_;
   std::vector<std::unique_ptr<Module<D>>> modules_;
   RunContext<D> ctx_;
