@@ -29,7 +29,8 @@ failures = []
 PHASES = ["compute", "halo", "migration", "rebalance", "io", "wait", "dem", "coupling"]
 COLUMNS = (["mode", "ranks", "spacing", "resin", "wall", "fibers", "dem", "particles",
             "moving_per_rank", "steps", "wall_s", "particle_steps_per_s", "efficiency"] +
-           [p + s for p in PHASES for s in ("_max", "_mean")] + ["run", "repeats"])
+           [p + s for p in PHASES for s in ("_max", "_mean")] +
+           ["step_lag_max", "imbalance_max", "run", "repeats"])
 
 
 def run(*args):
@@ -65,6 +66,11 @@ def study(name, *extra):
         expect(float(r["compute_max"]) > 0 and float(r["dem_max"]) > 0 and
                float(r["coupling_max"]) > 0, "%s %s ranks: compute, dem, coupling timed" %
                (name, r["ranks"]))
+        # docs/parallel.md, "Per-step times": the lag behind each step's
+        # slowest rank is at least the totals' imbalance; both 0 on 1 rank.
+        lag, imbalance = float(r["step_lag_max"]), float(r["imbalance_max"])
+        expect(lag + 1e-6 >= imbalance >= 0 and (r["ranks"] != "1" or lag == imbalance == 0),
+               "%s %s ranks: step lag %g >= imbalance %g" % (name, r["ranks"], lag, imbalance))
         total = sum(float(r[p + "_max"]) for p in PHASES)
         expect(total >= float(r["wall_s"]) * 0.999,
                "%s %s ranks: the phases' maxima cover the wall time" % (name, r["ranks"]))

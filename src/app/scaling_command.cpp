@@ -371,8 +371,10 @@ CLI::App* add_scaling_command(CLI::App& app, ScalingArgs& a) {
       "particles), particles (resin + wall + dem), moving_per_rank ((resin + dem) / ranks),\n"
       "steps, wall_s (max over ranks), particle_steps_per_s, efficiency (particle-steps/s per\n"
       "rank relative to the first rank count), then per phase of timings.csv (compute, halo,\n"
-      "migration, rebalance, io, wait, dem, coupling) its max and mean over ranks [s], run,\n"
-      "repeats. Bad input (rank list empty or not increasing, more ranks than slots, a weak\n"
+      "migration, rebalance, io, wait, dem, coupling) its max and mean over ranks [s],\n"
+      "step_lag_max and imbalance_max (the largest lag behind each step's slowest rank and the\n"
+      "largest imbalance of the busy totals [s]), run, repeats. Bad input (rank list empty or not "
+      "increasing, more ranks than slots, a weak\n"
       "study that would not fit memory) exits with status 2 before anything runs.");
   return cmd;
 }

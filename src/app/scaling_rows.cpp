@@ -127,6 +127,12 @@ PhaseStats read_timings(const std::filesystem::path& csv) {
   std::array<std::size_t, kPhaseCount> cols{};
   for (int p = 0; p < kPhaseCount; ++p) cols[p] = column(to_string(Phase(p)));
   const std::size_t total = column("total");
+  // The per-step columns came later: read when present.
+  auto optional_column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    return it == header.end() ? header.size() : static_cast<std::size_t>(it - header.begin());
+  };
+  const std::size_t lag = optional_column("step_lag"), imbalance = optional_column("imbalance");
   PhaseStats s;
   while (std::getline(in, line)) {
     if (line.empty()) continue;
@@ -140,6 +146,8 @@ PhaseStats read_timings(const std::filesystem::path& csv) {
       s.mean[p] += t;
     }
     s.total_max = std::max(s.total_max, std::stod(v[total]));
+    if (lag < v.size()) s.step_lag_max = std::max(s.step_lag_max, std::stod(v[lag]));
+    if (imbalance < v.size()) s.imbalance_max = std::max(s.imbalance_max, std::stod(v[imbalance]));
     ++s.ranks;
   }
   if (s.ranks == 0) throw std::runtime_error(fmt::format("{}: no rows", csv.string()));
@@ -161,6 +169,8 @@ std::vector<std::string> scaling_csv_columns() {
     c.push_back(fmt::format("{}_max", to_string(Phase(p))));
     c.push_back(fmt::format("{}_mean", to_string(Phase(p))));
   }
+  c.push_back("step_lag_max");
+  c.push_back("imbalance_max");
   c.push_back("run");
   c.push_back("repeats");
   return c;
@@ -181,6 +191,7 @@ void write_scaling_csv(std::ostream& out, const std::vector<ScalingRow>& rows,
                        r.wall_seconds(), rate, base_rate > 0 ? rate / r.ranks / base_rate : 0.0);
     for (int p = 0; p < kPhaseCount; ++p)
       out << fmt::format(",{:.6f},{:.6f}", r.phases.max[p], r.phases.mean[p]);
+    out << fmt::format(",{:.6f},{:.6f}", r.phases.step_lag_max, r.phases.imbalance_max);
     out << fmt::format(",{},{}\n", r.run, r.repeats);
   }
 }

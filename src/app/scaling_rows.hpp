@@ -27,11 +27,15 @@ struct RunCounts {
 // Throws std::runtime_error when the log lacks the banner or the done line.
 RunCounts parse_run_log(const std::string& text);
 
-// Max and mean over ranks of each phase of timings.csv, and of the total.
+// Max and mean over ranks of each phase of timings.csv, and of the total;
+// the largest lag behind each step's slowest rank and the largest
+// imbalance of the totals (docs/parallel.md, "Per-step times"; zero when
+// timings.csv has no such columns).
 struct PhaseStats {
   int ranks = 0;
   std::array<double, kPhaseCount> max{}, mean{};
   double total_max = 0;
+  double step_lag_max = 0, imbalance_max = 0;
 };
 
 // Reads <run dir>/timings.csv by its header; throws std::runtime_error when
