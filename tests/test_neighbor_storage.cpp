@@ -97,6 +97,29 @@ TEST(NeighborStorage, RandomCloudWithGhostsMatchesBruteForce) {
   EXPECT_FALSE(nl.all_wide());
 }
 
+// The owned particles whose list names a ghost, kept by the build for the
+// free-surface flag's second run (src/sph/fluid_rates.cpp): exactly those,
+// in index order, and none once the ghosts are gone.
+TEST(NeighborStorage, GhostListersAreTheListsNamingAGhost) {
+  SphParticles<2> ps = random_cloud(11, 0);
+  NeighborList<2> nl(1.0, 0.2);
+  nl.build(ps);
+  std::vector<std::uint32_t> expected;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    const std::vector<std::int32_t> l = brute(ps, i, nl.cutoff());
+    if (std::any_of(l.begin(), l.end(),
+                    [&](std::int32_t j) { return static_cast<std::size_t>(j) >= ps.n_owned; }))
+      expected.push_back(static_cast<std::uint32_t>(i));
+  }
+  // 50 ghosts in a 10 x 10 box, cut-off 1.2: most lists name one, not all.
+  EXPECT_GT(expected.size(), 10u);
+  EXPECT_LT(expected.size(), ps.n_owned);
+  EXPECT_EQ(nl.ghost_listers(), expected);
+  ps.clear_ghosts();  // no list names a ghost now
+  nl.build(ps);
+  EXPECT_TRUE(nl.ghost_listers().empty());
+}
+
 // The lists with an offset past 16 bits (the four lattice particles around
 // particle 40,000 and its own) are kept 32-bit, the others 16-bit.
 TEST(NeighborStorage, FarNeighbourKeepsThatListWide) {

@@ -267,6 +267,7 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
   wide_.clear();
   wide_rows_.clear();
   wide_starts_.clear();
+  ghost_listers_.clear();
   const std::size_t expected = n_own * (D == 2 ? 24 : 60);
   if (wide_first)
     wide_.reserve(expected);
@@ -329,6 +330,9 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
     const auto own = static_cast<std::int32_t>(i);
     const std::int32_t* const nb = list.data();
     const bool fits = std::all_of(nb, nb + m, [&](std::int32_t j) { return fits_16(j - own); });
+    if (std::any_of(nb, nb + m,
+                    [&](std::int32_t j) { return static_cast<std::size_t>(j) >= n_own; }))
+      ghost_listers_.push_back(static_cast<std::uint32_t>(i));
     if (wide_first || !fits) {
       if (!wide_first) {  // its 16-bit slots only say "kept wide"
         narrow_.resize(narrow_.size() + m, kWideRow);

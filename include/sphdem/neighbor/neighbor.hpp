@@ -101,6 +101,11 @@ class NeighborList {
   double cutoff() const { return support_ + skin_; }
   double skin() const { return skin_; }
   std::int64_t builds() const { return builds_; }
+  // The owned particles whose list holds a ghost (an index >= n_owned), in
+  // index order: the lists that name a ghost, found once per build (the
+  // free-surface flag's second run walks only these for flagged ghosts,
+  // src/sph/fluid_rates.cpp).
+  const std::vector<std::uint32_t>& ghost_listers() const { return ghost_listers_; }
   // Owned particle i's position at the last build, rounded to float (what
   // needs_rebuild compares with; 8 bytes a particle in 2D, not 16): part of
   // a checkpoint, so a restart rebuilds there and its rebuilds fall on the
@@ -125,6 +130,7 @@ class NeighborList {
   std::vector<std::int16_t> narrow_;   // per pair: neighbour index - own index
   std::vector<std::int32_t> wide_;     // the lists that do not fit (all of them if all_wide_)
   std::vector<std::uint32_t> wide_rows_, wide_starts_;  // those lists' particles and starts
+  std::vector<std::uint32_t> ghost_listers_;
   bool all_wide_ = false;
   std::vector<std::array<float, D>> x_at_build_;
   // Below this squared move no particle of the build needs the per-particle
