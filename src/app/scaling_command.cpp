@@ -373,9 +373,9 @@ CLI::App* add_scaling_command(CLI::App& app, ScalingArgs& a) {
       "rank relative to the first rank count), then per phase of timings.csv (compute, halo,\n"
       "migration, rebalance, io, wait, dem, coupling) its max and mean over ranks [s],\n"
       "step_lag_max and imbalance_max (the largest lag behind each step's slowest rank and the\n"
-      "largest imbalance of the busy totals [s]), run, repeats. Bad input (rank list empty or not "
-      "increasing, more ranks than slots, a weak\n"
-      "study that would not fit memory) exits with status 2 before anything runs.");
+      "largest imbalance of the busy totals [s]), run, repeats. Bad input (rank list empty or\n"
+      "not increasing, more ranks than slots, a weak study that would not fit memory) exits\n"
+      "with status 2 before anything runs.");
   return cmd;
 }
 
