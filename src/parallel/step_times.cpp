@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sphdem/parallel/exact_sum.hpp"
+
 namespace sphdem {
 
 StepTimes::StepTimes(std::size_t block) : block_(std::max<std::size_t>(block, 1)) {
@@ -23,7 +25,7 @@ void StepTimes::record(double busy_seconds) {
 
 void StepTimes::fold(const Comm& comm) {
   slowest_ = pending_;
-  comm.max(std::span<double>(slowest_));
+  max_over_ranks(comm, slowest_);
   for (std::size_t s = 0; s < pending_.size(); ++s) {
     const double t = pending_[s];
     lag_ += slowest_[s] - t;
