@@ -450,6 +450,81 @@ TEST(SphPairLoop, RecordsToLanesFourAtATime) {
 #endif
 }
 
+// narrow_slots8 (AVX-512) against the lists slot by slot, for lists of
+// 0-19 entries: whole and partial blocks of eight, empty lanes, offsets of
+// both signs, each row at the end of its own array (a read past it is
+// caught by the sanitizers).
+TEST(SphPairLoop, NarrowSlotsEightAtATimeAreTheListsSlotBySlot) {
+#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__)
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> offset(-32767, 32767);
+  std::uniform_int_distribution<std::size_t> length(0, 19);
+  const std::int32_t far = 1 << 30;
+  for (int c = 0; c < 400; ++c) {
+    std::size_t len[8];
+    std::vector<std::int16_t> rows[8];
+    const std::int16_t* row[8];
+    std::int32_t base[8];
+    for (int l = 0; l < 8; ++l) {
+      // Every length 0-8 in lane l of some case, then random ones.
+      len[l] = c < 9 ? static_cast<std::size_t>((c + l) % 9) : length(rng);
+      rows[l].resize(len[l]);
+      for (auto& o : rows[l]) o = static_cast<std::int16_t>(offset(rng));
+      row[l] = rows[l].data();
+      base[l] = 40000 + 1000 * l;
+    }
+    const std::size_t slots = *std::max_element(len, len + 8) + 1;
+    std::vector<std::int32_t> got(8 * (slots + 7), -1);
+    terms::narrow_slots8(row, base, len, slots, far, got.data());
+    for (std::size_t k = 0; k < slots; ++k)
+      for (std::size_t l = 0; l < 8; ++l)
+        ASSERT_EQ(got[k * 8 + l], k < len[l] ? base[l] + rows[l][k] : far)
+            << "case " << c << " slot " << k << " lane " << l << " of length " << len[l];
+  }
+#else
+  GTEST_SKIP() << "narrow_slots8 is built with AVX-512 (F, BW, VL) only";
+#endif
+}
+
+// Eight records as lane rows in registers (records_to_lanes8): lanes_of's
+// values for every row, for records of 12, 11, 9 and 1 doubles.
+template <std::size_t kSize>
+void expect_records_to_lanes8() {
+#if defined(__AVX512F__)
+  // Three readable doubles after each record, as kRecordSpare gives.
+  std::vector<double> recs(8 * kSize + 3, -1.0);
+  const double* rec[8];
+  for (int l = 0; l < 8; ++l) {
+    for (std::size_t c = 0; c < kSize; ++c)
+      recs[l * kSize + c] = 100.0 * l + static_cast<double>(c) + 0.25;
+    rec[l] = recs.data() + l * kSize;
+  }
+  const double* const (&r)[8] = rec;
+  __m512d rows[kSize];
+  terms::records_to_lanes8<terms::GatherLanes<2, terms::Fields<>>>(
+      r, rows, std::make_index_sequence<kSize>{});
+  for (std::size_t c = 0; c < kSize; ++c) {
+    __m512d want;
+    terms::lanes_of(r, c, want);
+    double a[8], b[8];
+    __builtin_memcpy(a, &rows[c], sizeof a);
+    __builtin_memcpy(b, &want, sizeof b);
+    for (int l = 0; l < 8; ++l) EXPECT_EQ(a[l], b[l]) << "row " << c << " lane " << l;
+  }
+#endif
+}
+
+TEST(SphPairLoop, RecordsToLanesEightAtATime) {
+#if defined(__AVX512F__)
+  expect_records_to_lanes8<12>();
+  expect_records_to_lanes8<11>();
+  expect_records_to_lanes8<9>();
+  expect_records_to_lanes8<1>();
+#else
+  GTEST_SKIP() << "records_to_lanes8 is built with AVX-512 only";
+#endif
+}
+
 // A term written outside the library: a per-particle prepared field (the
 // record computes it once per particle), a per-particle part and a pair
 // function. It joins the loop through a term list alone.

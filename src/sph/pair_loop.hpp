@@ -455,6 +455,75 @@ inline void narrow_slots4(const std::int16_t* const (&row)[4], const std::int32_
 }
 #endif
 
+#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__)
+// narrow_slots4 for eight lanes (AVX-512): out[k * 8 + l] = row[l][k] +
+// base[l] for k < len[l], `far` for len[l] <= k < slots. Eight slots at a
+// time: each lane's eight offsets loaded under a mask (no row is read past
+// its end), widened and added to its index, the slots past its end given
+// `far`; then an 8 x 8 transpose in registers and eight 32-byte stores.
+// out must have room for 8 times slots rounded up to a multiple of eight.
+inline void narrow_slots8(const std::int16_t* const (&row)[8], const std::int32_t (&base)[8],
+                          const std::size_t (&len)[8], std::size_t slots, std::int32_t far,
+                          std::int32_t* out) {
+  const __m256i far8 = _mm256_set1_epi32(far);
+  for (std::size_t k = 0; k < slots; k += 8) {
+    __m256 v[8];
+    for (int l = 0; l < 8; ++l) {
+      __m256i s = far8;
+      if (k < len[l]) {
+        const std::size_t have = len[l] - k;
+        const auto in = static_cast<__mmask8>(have >= 8 ? 0xFF : (1u << have) - 1);
+        const __m256i off = _mm256_cvtepi16_epi32(_mm_maskz_loadu_epi16(in, row[l] + k));
+        s = _mm256_mask_add_epi32(far8, in, off, _mm256_set1_epi32(base[l]));
+      }
+      v[l] = _mm256_castsi256_ps(s);
+    }
+    // v[l] holds lane l's slots k .. k+7; out's row k+s wants slot s of
+    // every lane.
+    __m256 t[8], u[8];
+    for (int p = 0; p < 8; p += 2) {
+      t[p] = _mm256_unpacklo_ps(v[p], v[p + 1]);
+      t[p + 1] = _mm256_unpackhi_ps(v[p], v[p + 1]);
+    }
+    for (int p = 0; p < 8; p += 4) {
+      u[p] = _mm256_shuffle_ps(t[p], t[p + 2], _MM_SHUFFLE(1, 0, 1, 0));
+      u[p + 1] = _mm256_shuffle_ps(t[p], t[p + 2], _MM_SHUFFLE(3, 2, 3, 2));
+      u[p + 2] = _mm256_shuffle_ps(t[p + 1], t[p + 3], _MM_SHUFFLE(1, 0, 1, 0));
+      u[p + 3] = _mm256_shuffle_ps(t[p + 1], t[p + 3], _MM_SHUFFLE(3, 2, 3, 2));
+    }
+    __m256i* const o = reinterpret_cast<__m256i*>(out + 8 * k);
+    for (int s = 0; s < 4; ++s) {
+      _mm256_storeu_si256(o + s, _mm256_castps_si256(_mm256_permute2f128_ps(u[s], u[s + 4], 0x20)));
+      _mm256_storeu_si256(o + s + 4,
+                          _mm256_castps_si256(_mm256_permute2f128_ps(u[s], u[s + 4], 0x31)));
+    }
+  }
+}
+#endif
+
+// Whether this build has narrow_slots8.
+inline constexpr bool kNarrowSlots8 =
+#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__)
+    true;
+#else
+    false;
+#endif
+
+#if defined(__AVX512F__)
+// Eight records' first kSize doubles as lane rows, rows[c] lane l =
+// rec[l][c] (lanes_of for every c at once), by the gather's eight-at-a-time
+// transpose (GatherLanes::row8, lane_gather.hpp). Reads each record's
+// doubles in fours: up to three doubles after rec[l] + kSize must be
+// readable (kRecordSpare).
+template <class Gather, std::size_t... C>
+SPHDEM_INLINE inline void records_to_lanes8(const double* const (&rec)[8], __m512d* rows,
+                                            std::index_sequence<C...>) {
+  ((rows[C] = Gather::template row8<static_cast<int>(C), -1>(static_cast<const double*>(nullptr),
+                                                              rec)),
+   ...);
+}
+#endif
+
 // r2 < least ? r2 : least, lane by lane.
 template <class VR>
 VR lane_least(VR least, VR r2) {
@@ -671,7 +740,12 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             if constexpr (W == 4)
               records_to_lanes4(own_rec, own_rows);
             else
+#if defined(__AVX512F__)
+              records_to_lanes8<Gather>(own_rec, own_rows,
+                                        std::make_index_sequence<Record::kSize>{});
+#else
               for (std::size_t c = 0; c < Record::kSize; ++c) lanes_of(own_rec, c, own_rows[c]);
+#endif
             const auto bound = std::make_tuple(for_particle(
                 std::get<typename S::Term>(terms),
                 OwnView<Record,
@@ -686,14 +760,14 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             std::size_t most = 0;
             for (int l = 0; l < m; ++l) most = std::max(most, nl.end(ids[l]) - nl.begin(ids[l]));
             const auto far = static_cast<std::int32_t>(n);
-            // (Room for the narrow fill's whole blocks of four slots.)
-            slot_index.resize(W * (most + 4));
+            // (Room for the narrow fill's whole blocks of W slots.)
+            slot_index.resize(W * (most + W));
             bool narrow = false;
 #if defined(__AVX2__)
-            if constexpr (W == 4) {
-              const std::int16_t* row[4] = {};
-              std::int32_t base[4] = {};
-              std::size_t len[4] = {};
+            if constexpr (W == 4 || kNarrowSlots8) {
+              const std::int16_t* row[W] = {};
+              std::int32_t base[W] = {};
+              std::size_t len[W] = {};
               narrow = true;
               for (int l = 0; l < m && narrow; ++l) {
                 const NeighborRow nb = nl.row(ids[l]);
@@ -703,7 +777,14 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
                 base[l] = nb.base();
                 len[l] = nl.end(ids[l]) - nl.begin(ids[l]);
               }
-              if (narrow) narrow_slots4(row, base, len, most + 1, far, slot_index.data());
+              if (narrow) {
+                if constexpr (W == 4)
+                  narrow_slots4(row, base, len, most + 1, far, slot_index.data());
+#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__)
+                else
+                  narrow_slots8(row, base, len, most + 1, far, slot_index.data());
+#endif
+              }
             }
 #endif
             for (int l = 0; l < W && !narrow; ++l) {
