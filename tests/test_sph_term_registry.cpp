@@ -499,7 +499,7 @@ void expect_records_to_lanes8() {
       recs[l * kSize + c] = 100.0 * l + static_cast<double>(c) + 0.25;
     rec[l] = recs.data() + l * kSize;
   }
-  const double* const (&r)[8] = rec;
+  const double* const(&r)[8] = rec;
   __m512d rows[kSize];
   terms::records_to_lanes8<terms::GatherLanes<2, terms::Fields<>>>(
       r, rows, std::make_index_sequence<kSize>{});

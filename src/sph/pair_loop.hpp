@@ -518,8 +518,8 @@ inline constexpr bool kNarrowSlots8 =
 template <class Gather, std::size_t... C>
 SPHDEM_INLINE inline void records_to_lanes8(const double* const (&rec)[8], __m512d* rows,
                                             std::index_sequence<C...>) {
-  ((rows[C] = Gather::template row8<static_cast<int>(C), -1>(static_cast<const double*>(nullptr),
-                                                              rec)),
+  ((rows[C] =
+        Gather::template row8<static_cast<int>(C), -1>(static_cast<const double*>(nullptr), rec)),
    ...);
 }
 #endif
