@@ -499,13 +499,12 @@ void expect_records_to_lanes8() {
       recs[l * kSize + c] = 100.0 * l + static_cast<double>(c) + 0.25;
     rec[l] = recs.data() + l * kSize;
   }
-  const double* const(&r)[8] = rec;
   __m512d rows[kSize];
   terms::records_to_lanes8<terms::GatherLanes<2, terms::Fields<>>>(
-      r, rows, std::make_index_sequence<kSize>{});
+      rec, rows, std::make_index_sequence<kSize>{});
   for (std::size_t c = 0; c < kSize; ++c) {
     __m512d want;
-    terms::lanes_of(r, c, want);
+    terms::lanes_of(rec, c, want);
     double a[8], b[8];
     __builtin_memcpy(a, &rows[c], sizeof a);
     __builtin_memcpy(b, &want, sizeof b);
