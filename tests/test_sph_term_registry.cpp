@@ -418,6 +418,19 @@ TEST(SphPairLoop, NarrowSlotsAreTheListsSlotBySlot) {
 #endif
 }
 
+// Each of rows[0 .. size) against lanes_of's values for the records rec.
+template <class VR, std::size_t W>
+void expect_rows_are_lanes_of(const VR* rows, const double* const (&rec)[W], std::size_t size) {
+  for (std::size_t c = 0; c < size; ++c) {
+    VR want;
+    terms::lanes_of(rec, c, want);
+    double a[W], b[W];
+    __builtin_memcpy(a, &rows[c], sizeof a);
+    __builtin_memcpy(b, &want, sizeof b);
+    for (std::size_t l = 0; l < W; ++l) EXPECT_EQ(a[l], b[l]) << "row " << c << " lane " << l;
+  }
+}
+
 // Four records as lane rows in registers (records_to_lanes4): lanes_of's
 // values for every row, for records of an even and of an odd length.
 template <std::size_t kSize>
@@ -429,14 +442,7 @@ void expect_records_to_lanes4() {
   const double* const rec[4] = {recs[0], recs[1], recs[2], recs[3]};
   __m256d rows[kSize];
   terms::records_to_lanes4(rec, rows);
-  for (std::size_t c = 0; c < kSize; ++c) {
-    __m256d want;
-    terms::lanes_of(rec, c, want);
-    double a[4], b[4];
-    __builtin_memcpy(a, &rows[c], sizeof a);
-    __builtin_memcpy(b, &want, sizeof b);
-    for (int l = 0; l < 4; ++l) EXPECT_EQ(a[l], b[l]) << "row " << c << " lane " << l;
-  }
+  expect_rows_are_lanes_of(rows, rec, kSize);
 #endif
 }
 
@@ -502,14 +508,7 @@ void expect_records_to_lanes8() {
   __m512d rows[kSize];
   terms::records_to_lanes8<terms::GatherLanes<2, terms::Fields<>>>(
       rec, rows, std::make_index_sequence<kSize>{});
-  for (std::size_t c = 0; c < kSize; ++c) {
-    __m512d want;
-    terms::lanes_of(rec, c, want);
-    double a[8], b[8];
-    __builtin_memcpy(a, &rows[c], sizeof a);
-    __builtin_memcpy(b, &want, sizeof b);
-    for (int l = 0; l < 8; ++l) EXPECT_EQ(a[l], b[l]) << "row " << c << " lane " << l;
-  }
+  expect_rows_are_lanes_of(rows, rec, kSize);
 #endif
 }
 
