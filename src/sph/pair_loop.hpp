@@ -456,6 +456,7 @@ inline void narrow_slots4(const std::int16_t* const (&row)[4], const std::int32_
 #endif
 
 #if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__)
+#define SPHDEM_NARROW_SLOTS8 1
 // narrow_slots4 for eight lanes (AVX-512): out[k * 8 + l] = row[l][k] +
 // base[l] for k < len[l], `far` for len[l] <= k < slots. Eight slots at a
 // time: each lane's eight offsets loaded under a mask (no row is read past
@@ -502,11 +503,10 @@ inline void narrow_slots8(const std::int16_t* const (&row)[8], const std::int32_
 #endif
 
 // Whether this build has narrow_slots8.
-inline constexpr bool kNarrowSlots8 =
-#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__)
-    true;
+#if defined(SPHDEM_NARROW_SLOTS8)
+inline constexpr bool kNarrowSlots8 = true;
 #else
-    false;
+inline constexpr bool kNarrowSlots8 = false;
 #endif
 
 #if defined(__AVX512F__)
@@ -780,7 +780,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               if (narrow) {
                 if constexpr (W == 4)
                   narrow_slots4(row, base, len, most + 1, far, slot_index.data());
-#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512VL__)
+#if defined(SPHDEM_NARROW_SLOTS8)
                 else
                   narrow_slots8(row, base, len, most + 1, far, slot_index.data());
 #endif
