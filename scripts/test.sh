@@ -3,11 +3,24 @@
 # (warnings as errors) and runs the whole test suite with ctest: unit,
 # validation, MPI (1-4 ranks), I/O (h5py) and ParaView checks.
 #   scripts/test.sh              # what CI runs (.ci/run)
-#   scripts/test.sh --sanitize   # the same suite under AddressSanitizer + UBSan
+#   scripts/test.sh --sanitize   # the same suite under AddressSanitizer + UBSan (generic x86-64)
+#   scripts/test.sh --sanitize-native   # the same, with this CPU's vector paths (-march=native)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 preset=test
-[[ "${1:-}" == "--sanitize" ]] && preset=sanitize
+case "${1:-}" in
+  "") ;;
+  --sanitize) preset=sanitize ;;
+  --sanitize-native) preset=sanitize-native ;;
+  -h | --help)
+    sed -n '2,7p' "$0" | sed 's/^# \{0,1\}//'
+    exit 0
+    ;;
+  *)
+    echo "scripts/test.sh: unknown option '$1' (--sanitize, --sanitize-native or none)" >&2
+    exit 2
+    ;;
+esac
 scripts/install-deps.sh
 # A fresh test build takes about 1 GB of disk (the sanitize one more): say so
 # before the build rather than fail in the linker halfway through it.
