@@ -459,8 +459,8 @@ TEST(SphPairLoop, RecordsToLanesFourAtATime) {
 // narrow_slots8 (AVX-512) against the lists slot by slot, for lists of
 // 0-19 entries: whole and partial blocks of eight, empty lanes, offsets of
 // both signs, each row at the end of its own array (the masked loads read
-// nothing past it; the sanitize preset builds without AVX-512, so this
-// test skips there).
+// nothing past it: the sanitize-native preset runs this test under ASan;
+// the sanitize preset builds without AVX-512, so it skips there).
 TEST(SphPairLoop, NarrowSlotsEightAtATimeAreTheListsSlotBySlot) {
 #if defined(SPHDEM_NARROW_SLOTS8)
   std::mt19937 rng(5);
