@@ -134,9 +134,9 @@ double dam_break_reaches(double t_end, bool at_surface) {
 // - the fix: 0.363 s in the test build until 4 December 2026, past 0.4 s
 //   after that day's change of rounding (docs/performance.md, "The pair's
 //   arithmetic"), 0.254 s in that day's sanitize build (generic x86-64, no
-//   FMA), 0.266 s in the test build of 7 December, 0.247 s in the
-//   sanitize-native build;
-// - the published form: 0.107-0.123 s, but 0.233 s in the sanitize-native
+//   FMA), 0.294 s in the test build of 7 December (Intel Xeon, AVX-512),
+//   0.247 s in that day's sanitize-native build;
+// - the published form: 0.109-0.123 s, but 0.233 s in the sanitize-native
 //   build of 7 December (past the impact that time).
 // So the test asserts what held in every build: the fix gets well past the
 // impact (0.2 s), and the published form does not reach the run's end. It

@@ -494,10 +494,7 @@ TEST(SphPairLoop, NarrowSlotsEightAtATimeAreTheListsSlotBySlot) {
 }
 
 // Eight records as lane rows in registers (records_to_lanes8): lanes_of's
-// values for every row, in the natural and in the paired lane order, for
-// records of 12, 11, 9 and 1 doubles. Fails when a paired row's lane holds
-// another record than kPairedLane says (the one-particle-per-lane loop
-// would then read a particle's sums from another's lane).
+// values for every row, for records of 12, 11, 9 and 1 doubles.
 template <std::size_t kSize>
 void expect_records_to_lanes8() {
 #if defined(__AVX512F__)
@@ -513,14 +510,6 @@ void expect_records_to_lanes8() {
   terms::records_to_lanes8<terms::GatherLanes<2, terms::Fields<>>>(
       rec, rows, std::make_index_sequence<kSize>{});
   expect_rows_are_lanes_of(rows, rec, kSize);
-  // The paired order (LaneOrder::Paired, the one-particle-per-lane loop's):
-  // record l in lane kPairedLane[l], every record in exactly one lane.
-  __m512d paired[kSize];
-  terms::records_to_lanes8<terms::GatherLanes<2, terms::Fields<>>, terms::LaneOrder::Paired>(
-      rec, paired, std::make_index_sequence<kSize>{});
-  const double* moved[8];
-  for (int l = 0; l < 8; ++l) moved[terms::kPairedLane[l]] = rec[l];
-  expect_rows_are_lanes_of(paired, moved, kSize);
 #endif
 }
 

@@ -35,21 +35,6 @@ struct LaneSources {
   std::array<int, kRows> rel{};
 };
 
-// Which register lane holds which of the eight records of an eight-wide
-// row (row8). Natural: lane l holds record l, as the chunk's lanes in
-// memory must (they are summed in list order). Paired: lanes hold records
-// 0 1 4 5 2 3 6 7 (kPairedLane), which the last step of the transpose
-// gives with a three-operand 128-bit shuffle instead of a two-source
-// permute that overwrites one of its inputs: no register copy per row, and
-// no index registers held across the loop. The one-particle-per-lane loop
-// uses it for particle i's rows and its neighbours' rows alike, so each
-// lane still pairs a particle with its own neighbours (docs/performance.md,
-// "The transpose's last step without copies").
-enum class LaneOrder { Natural, Paired };
-// The lane of record l in a Paired row (the order swaps 2 with 4 and 3 with
-// 5, so it is its own inverse: lane p also holds record kPairedLane[p]).
-inline constexpr int kPairedLane[8] = {0, 1, 4, 5, 2, 3, 6, 7};
-
 template <int D, class Fs>
 struct GatherLanes;
 template <int D, class... Fs>
@@ -98,17 +83,14 @@ struct GatherLanes<D, Fields<Fs...>> {
   // terms on them when it can (pair_loop.hpp, "steps 1 and 2 in registers").
   // own: particle i's record (double), or registers of W doubles holding
   // one particle per lane (pair_loop.hpp, "one particle per lane").
-  // kOrder: the lanes' order of a row of eight (LaneOrder).
-  template <class Lanes, class Record, LaneOrder kOrder = LaneOrder::Natural, std::size_t W,
-            class Reg, class O>
+  template <class Lanes, class Record, std::size_t W, class Reg, class O>
   [[gnu::always_inline]] static inline void rows(const O* own, const double* const (&r)[W],
                                                  Reg* out) {
-    rows_of<Lanes, Record, kOrder>(own, r, out, std::make_index_sequence<Lanes::kSize>{});
+    rows_of<Lanes, Record>(own, r, out, std::make_index_sequence<Lanes::kSize>{});
   }
   // (A function rather than a lambda: GCC would not inline the lambda into
   // the pair loop.)
-  template <class Lanes, class Record, LaneOrder kOrder, std::size_t W, class Reg, class O,
-            std::size_t... L>
+  template <class Lanes, class Record, std::size_t W, class Reg, class O, std::size_t... L>
   [[gnu::always_inline]] static inline void rows_of(const O* own, const double* const (&r)[W],
                                                     Reg* out, std::index_sequence<L...>) {
     constexpr LaneSources<Lanes::kSize> s = sources<Lanes, Record>();
@@ -116,7 +98,7 @@ struct GatherLanes<D, Fields<Fs...>> {
       ((out[L] = row<s.src[L], s.rel[L]>(own, r)), ...);
     } else {
 #if defined(__AVX512F__)
-      ((out[L] = row8<s.src[L], s.rel[L], kOrder>(own, r)), ...);
+      ((out[L] = row8<s.src[L], s.rel[L]>(own, r)), ...);
 #endif
     }
   }
@@ -154,7 +136,7 @@ struct GatherLanes<D, Fields<Fs...>> {
     for (std::size_t L = 0; L < Lanes::kSize; ++L) _mm512_store_pd(lanes + L * kChunk + k, regs[L]);
   }
 
-  template <int kSrc, int kRel, LaneOrder kOrder = LaneOrder::Natural, class O>
+  template <int kSrc, int kRel, class O>
   [[gnu::always_inline]] static inline __m512d row8(const O* own, const double* const (&r)[8]) {
     constexpr int base = kSrc & ~3;
     // The masked forms with every lane set are the plain instructions; the
@@ -174,17 +156,9 @@ struct GatherLanes<D, Fields<Fs...>> {
     const __m512d a = unpack(z0, z1), b = unpack(z2, z3);
     // a = [n0 n1 . . n4 n5 . .], b = [n2 n3 . . n6 n7 . .]: take the first
     // or the second double pair of each 256-bit half (kSrc & 2).
-    __m512d v;
-    if constexpr (kOrder == LaneOrder::Natural) {
-      const __m512i pick = (kSrc & 2) == 0 ? _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0)
-                                           : _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
-      v = _mm512_permutex2var_pd(a, pick, b);
-    } else {
-      // The same pairs as whole 128-bit lanes, a's two then b's two:
-      // [n0 n1 n4 n5 n2 n3 n6 n7] (kPairedLane).
-      constexpr int kPick = (kSrc & 2) == 0 ? 0x88 : 0xDD;  // lanes 0, 2, 0, 2 or 1, 3, 1, 3
-      v = _mm512_mask_shuffle_f64x2(a, kAll, a, b, kPick);
-    }
+    const __m512i pick = (kSrc & 2) == 0 ? _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0)
+                                         : _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
+    const __m512d v = _mm512_permutex2var_pd(a, pick, b);
     if constexpr (kRel < 0)
       return v;
     else if constexpr (std::is_same_v<O, double>)

@@ -511,16 +511,15 @@ inline constexpr bool kNarrowSlots8 = false;
 
 #if defined(__AVX512F__)
 // Eight records' first kSize doubles as lane rows, rows[c] lane l =
-// rec[l][c] (lanes_of for every c at once; with LaneOrder::Paired lane
-// kPairedLane[l]), by the gather's eight-at-a-time transpose
-// (GatherLanes::row8, lane_gather.hpp). Reads each record's doubles in
-// fours: up to three doubles after rec[l] + kSize must be readable
-// (kRecordSpare).
-template <class Gather, LaneOrder kOrder = LaneOrder::Natural, std::size_t... C>
+// rec[l][c] (lanes_of for every c at once), by the gather's eight-at-a-time
+// transpose (GatherLanes::row8, lane_gather.hpp). Reads each record's
+// doubles in fours: up to three doubles after rec[l] + kSize must be
+// readable (kRecordSpare).
+template <class Gather, std::size_t... C>
 SPHDEM_INLINE inline void records_to_lanes8(const double* const (&rec)[8], __m512d* rows,
                                             std::index_sequence<C...>) {
-  ((rows[C] = Gather::template row8<static_cast<int>(C), -1, kOrder>(
-        static_cast<const double*>(nullptr), rec)),
+  ((rows[C] =
+        Gather::template row8<static_cast<int>(C), -1>(static_cast<const double*>(nullptr), rec)),
    ...);
 }
 #endif
@@ -723,13 +722,6 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
           // particle at a time.
           using Gather = GatherLanes<D, typename N::LaneFields>;
           constexpr int W = sizeof(VR) / sizeof(double);
-          // Eight lanes in the transpose's paired order, particle i's rows and
-          // its neighbours' alike (LaneOrder, lane_gather.hpp): particle
-          // ids[l]'s sums are in register lane lane_of_id(l).
-          constexpr LaneOrder kOrder = W == 8 ? LaneOrder::Paired : LaneOrder::Natural;
-          const auto lane_of_id = [](int l) {
-            return kOrder == LaneOrder::Paired ? kPairedLane[l] : l;
-          };
           static thread_local std::vector<std::int32_t> slot_index;
           std::size_t at = 0;
           while (at < count) {
@@ -749,8 +741,8 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               records_to_lanes4(own_rec, own_rows);
             else
 #if defined(__AVX512F__)
-              records_to_lanes8<Gather, kOrder>(own_rec, own_rows,
-                                                std::make_index_sequence<Record::kSize>{});
+              records_to_lanes8<Gather>(own_rec, own_rows,
+                                        std::make_index_sequence<Record::kSize>{});
 #else
               for (std::size_t c = 0; c < Record::kSize; ++c) lanes_of(own_rec, c, own_rows[c]);
 #endif
@@ -816,7 +808,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               const std::int32_t* const j = slot_index.data() + k * W;
               const double* rj[W];
               for (int l = 0; l < W; ++l) rj[l] = rec[j[l]].v;
-              Gather::template rows<Lanes, Record, kOrder>(own_rows, rj, out.rows);
+              Gather::template rows<Lanes, Record>(own_rows, rj, out.rows);
               out.dist = pair_distance(std::type_identity<VR>{},
                                        [&](std::size_t row) { return out.rows[row]; });
             };
@@ -859,12 +851,11 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             __builtin_memcpy(r2_out, &r2min, sizeof(VR));
             for (int l = 0; l < m; ++l) {
               const std::size_t i = ids[l];
-              const int p = lane_of_id(l);
               Vec<D> a;
-              for (int d = 0; d < D; ++d) a[d] = acc_out[d][p];
+              for (int d = 0; d < D; ++d) a[d] = acc_out[d][l];
               ps.a[i] = a + g;
-              ps.drho[i] = drho_out[p];
-              if (close2 > 0.0 && r2_out[p] < close2)
+              ps.drho[i] = drho_out[l];
+              if (close2 > 0.0 && r2_out[l] < close2)
                 close->particles.push_back(static_cast<std::uint32_t>(i));
               if constexpr (kSide) {
                 if (side) {
@@ -877,7 +868,7 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
                         sp, own_rec[l][Record::template offset<typename Side::WantedFrom>()]);
                   else if constexpr (requires { Side::template wanted<D>(sp, ps, i); })
                     side_i = Side::template wanted<D>(sp, ps, i);
-                  const double sums[1] = {side_out[p]};
+                  const double sums[1] = {side_out[l]};
                   Side::output(ps)[i] = side_i ? Side{}.template finish<D>(sums) : 0.0;
                 }
               }

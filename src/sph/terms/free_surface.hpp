@@ -45,11 +45,10 @@ struct FreeSurface : ScalarField {
 }  // namespace field
 
 // This pair's part of div r_i = -sum_j V_j F_ij |x_ij|^2 (one expression for both passes).
-// V_j F r^2 is also the Morris term's product (viscosity_morris.hpp): one
-// product for both in the pair loop. -(a b) is (-a) b, bit for bit.
 template <class P>
 auto position_divergence_part(const P& p) {
-  return -(p.lane(field::Vol{}) * p.F * p.r2);
+  const auto vf = p.lane(field::Vol{}) * p.F;
+  return -vf * p.r2;
 }
 
 // The anti-clump term reads the flag (numerics.anti_clump_at_surface off).

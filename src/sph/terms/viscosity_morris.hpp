@@ -11,12 +11,9 @@ namespace sphdem::terms {
 
 // Scalar factor multiplying v_ij. The caller passes the per-particle
 // parts, two_mu_over_rho_i = 2 mu / rho_i and vol_j = m_j / rho_j, so the
-// pair costs one division (by r^2 + eta^2) instead of two. V_j F r^2 is
-// the free-surface pass's part (free_surface.hpp, -div r's), so the pair
-// loop computes it once for both (docs/performance.md, "The transpose's last
-// step without copies").
+// pair costs one division (by r^2 + eta^2) instead of two.
 inline auto morris_viscosity(auto two_mu_over_rho_i, auto vol_j, auto F, auto r2, double eta2) {
-  return two_mu_over_rho_i * (vol_j * F * r2) / (r2 + eta2);
+  return two_mu_over_rho_i * vol_j * F * r2 / (r2 + eta2);
 }
 
 // O: the type of particle i's values, double, or a register of them when

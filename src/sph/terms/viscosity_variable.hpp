@@ -95,7 +95,7 @@ struct VariableViscosityT {
   void pair(const P& p, Sums& s) const {
     const auto mu_j = p.lane(field::Fluid{}) > 0.5 ? p.lane(field::Viscosity{}) : mu_i;
     const auto two_mu = 2.0 * harmonic_mean(mu_i, mu_j);
-    s.visc += two_mu * scale_over_rho_i * (p.lane(field::Vol{}) * p.F * p.r2) / (p.r2 + eta2);
+    s.visc += two_mu * scale_over_rho_i * p.lane(field::Vol{}) * p.F * p.r2 / (p.r2 + eta2);
   }
 };
 using VariableViscosity = VariableViscosityT<>;
