@@ -26,3 +26,6 @@ sphdem_test(test_heat SOURCES test_heat.cpp RANKS 1 LABELS unit)
 sphdem_test(test_leapfrog SOURCES test_leapfrog.cpp RANKS 1 LABELS unit)
 # The passes eight (or 64) particles at a time: the bits of the one-particle forms, tails included.
 sphdem_test(test_particle_lanes SOURCES test_particle_lanes.cpp RANKS 1 LABELS unit)
+# The pair loop's compact record: the same runs bitwise as the full record,
+# and its conditions checked (src/sph/compact_record.hpp).
+sphdem_test(test_compact_record SOURCES test_compact_record.cpp RANKS 1 LABELS unit)

@@ -3,7 +3,9 @@
 // what a term is: term_interface.hpp). For the terms a case switches on it
 //   0. packs one record per particle with the fields those terms declare
 //      (and only those), computing prepared fields such as P/rho^2 or
-//      anti-clump's R_a once per particle, back to back;
+//      anti-clump's R_a once per particle, back to back (in 2D, where every
+//      mass is the same and the walls are at rest, without the three fields
+//      the others then determine: compact_record.hpp);
 //   per owned resin particle i, per chunk of up to kChunk neighbours:
 //   1. gathers the declared lanes of each neighbour j into short
 //      contiguous arrays (x_ij, v_ij, the neighbour's scalars);
@@ -41,66 +43,14 @@
 #include <utility>
 #include <vector>
 
+#include "compact_record.hpp"
+#include "field_layout.hpp"
 #include "lane_gather.hpp"
 #include "record_fields.hpp"
 #include "sphdem/core/scratch.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
 
 namespace sphdem::terms {
-
-// ---- Field lists ---------------------------------------------------------
-
-template <class L, class F>
-struct Append;
-template <class... Fs, class F>
-struct Append<Fields<Fs...>, F> {
-  using type = std::conditional_t<(std::is_same_v<F, Fs> || ...), Fields<Fs...>, Fields<Fs..., F>>;
-};
-template <class... Fs>
-struct Append<Fields<Fs...>, void> {
-  using type = Fields<Fs...>;
-};
-
-// L followed by the fields of M not yet in L; with kSources, a relative
-// field's source (VelWall's Vel) too, since its lane reads i's source.
-template <class L, class M, bool kSources>
-struct Merge;
-template <class L, bool kSources>
-struct Merge<L, Fields<>, kSources> {
-  using type = L;
-};
-template <class L, class F, class... Rest, bool kSources>
-struct Merge<L, Fields<F, Rest...>, kSources> {
-  using with_source =
-      std::conditional_t<kSources, typename Append<L, typename F::RelativeTo>::type, L>;
-  using type =
-      typename Merge<typename Append<with_source, F>::type, Fields<Rest...>, kSources>::type;
-};
-template <bool kSources, class L, class... Ms>
-struct MergeAll {
-  using type = L;
-};
-template <bool kSources, class L, class M, class... Ms>
-struct MergeAll<kSources, L, M, Ms...> {
-  using type = typename MergeAll<kSources, typename Merge<L, M, kSources>::type, Ms...>::type;
-};
-
-// Where each field of L sits in a record (or a lane block) of D-dimensional doubles.
-template <int D, class L>
-struct Layout;
-template <int D, class... Fs>
-struct Layout<D, Fields<Fs...>> {
-  static constexpr std::size_t kSize = (std::size_t{0} + ... + width_v<Fs, D>);
-  template <class F>
-  static constexpr std::size_t offset() {
-    static_assert(contains_v<F, Fields<Fs...>>, "field not in this layout");
-    std::size_t o = 0;
-    bool found = false;
-    ((found = found || std::is_same_v<F, Fs>, o += found ? 0 : width_v<Fs, D>), ...);
-    return o;
-  }
-  static std::vector<std::string> names() { return {Fs::name...}; }
-};
 
 // ---- Terms: on/off, variants, the combination table ------------------------
 
@@ -343,6 +293,8 @@ struct PairLoopRun {
   // compiled without multiply-add contraction checks that they give the
   // same bits (with it, GCC may fuse differently in the two: tests/unit.cmake).
   bool per_particle = false;
+  // When to use the compact record (compact_record.hpp).
+  CompactUse compact = compact_record_default();
 };
 
 // On a lambda of the pair loop: inline it wherever it is called. Without it
@@ -596,12 +548,56 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   // form.
   PackedRecord<kStride>* rec = reinterpret_cast<PackedRecord<kStride>*>(
       shared_scratch((n + 1) * kStride + kRecordSpare<D, kStride>));
+  // The compact record (compact_record.hpp) where this build and this loop
+  // can use it and every particle keeps its conditions at this step; a redo
+  // keeps the first run's choice. A run that finds them broken leaves the
+  // next 1024 runs of this loop on the full record (a moving wall breaks them
+  // at every step, and the check would otherwise cost a partial fill each
+  // time).
+  using Compact = CompactRecord<D, typename N::RecordFields>;
+#if defined(__AVX512F__)
+  constexpr bool kCompactable = Compact::value && kOnePerLane;
+#else
+  constexpr bool kCompactable = false;
+#endif
+  using CL = typename Compact::Layout;
+  PackedRecord<CL::kSize>* crec = reinterpret_cast<PackedRecord<CL::kSize>*>(rec);
+  static thread_local bool compact_first = false;  // the choice of the last first run
+  static thread_local int compact_rest = 0;
+  bool compact = false;
+  if constexpr (kCompactable) {
+    if (run.redo != nullptr) {
+      compact = compact_first;
+    } else if (run.compact != CompactUse::Off && !run.per_particle && n > 0) {
+      if (compact_rest > 0 && run.compact == CompactUse::Auto) {
+        --compact_rest;
+      } else {
+        compact = true;
+        const double m0 = ps.mass[0];
+        for (std::size_t i = 0; i < n && compact; ++i) {
+          compact = Compact::keeps(ps, i, m0);
+          if (compact) Compact::fill(sp, ps, i, crec[i].v);
+        }
+        if (!compact) compact_rest = 1024;
+      }
+    }
+    if (run.redo == nullptr) compact_first = compact;
+    if (compact) ++compact_record_runs();
+  }
   if (run.redo == nullptr) {
-    for (std::size_t i = 0; i < n; ++i)
-      FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
+    if (!compact)
+      for (std::size_t i = 0; i < n; ++i)
+        FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, i, rec[i].v);
   } else {
-    for (const std::uint32_t j : *run.refill)
+    for (const std::uint32_t j : *run.refill) {
+      if constexpr (kCompactable) {
+        if (compact) {
+          Compact::fill(sp, ps, j, crec[j].v);
+          continue;
+        }
+      }
       FillRecord<D, typename N::RecordFields>::template run<Record>(sp, ps, j, rec[j].v);
+    }
   }
   // The far record: record 0's values at a position kFar from the origin on
   // every axis, far beyond the support of any particle, so that a pair with
@@ -610,7 +606,10 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
   // products with a particle's fields stay finite). The one-particle-per-lane
   // form pads the shorter lists of a group with it.
   constexpr double kFar = 1e20;
-  if (n > 0) {
+  if (n > 0 && compact) {
+    for (std::size_t c = 0; c < CL::kSize; ++c) crec[n].v[c] = crec[0].v[c];
+    for (int d = 0; d < D; ++d) crec[n].v[CL::template offset<field::Pos>() + d] = kFar;
+  } else if (n > 0) {
     for (std::size_t c = 0; c < kStride; ++c) rec[n].v[c] = rec[0].v[c];
     for (int d = 0; d < D; ++d) rec[n].v[Record::template offset<field::Pos>() + d] = kFar;
   }
@@ -711,7 +710,9 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
 #if defined(__AVX__)
         // (VR deduced, not spelled: GCC drops __m512d's attributes from an
         // explicit template argument, and says so.)
-        [&]<class VR>(const VR*) {
+        // kCompact: the records are compact ones (compact_record.hpp).
+        const auto per_lane = [&]<class VR, bool kCompact>(const VR*,
+                                                           std::bool_constant<kCompact>) {
           // One particle per lane (docs/performance.md, "One particle per
           // lane"): W owned resin particles at a time (eight with AVX-512,
           // four with AVX), slot k holding each one's k-th neighbour. Each
@@ -723,6 +724,9 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
           using Gather = GatherLanes<D, typename N::LaneFields>;
           constexpr int W = sizeof(VR) / sizeof(double);
           static thread_local std::vector<std::int32_t> slot_index;
+          // The compact record's one mass and the delta-SPH weight's factor.
+          [[maybe_unused]] const VR compact_mass = splat<VR>(n > 0 ? ps.mass[0] : 0.0);
+          [[maybe_unused]] const VR compact_weight = splat<VR>(Compact::weight_factor(sp));
           std::size_t at = 0;
           while (at < count) {
             std::uint32_t ids[W];
@@ -735,17 +739,23 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             for (int l = m; l < W; ++l) ids[l] = ids[m - 1];
             // The particles' records, one lane each.
             const double* own_rec[W];
-            for (int l = 0; l < W; ++l) own_rec[l] = rec[ids[l]].v;
+            for (int l = 0; l < W; ++l) own_rec[l] = kCompact ? crec[ids[l]].v : rec[ids[l]].v;
             VR own_rows[Record::kSize];
-            if constexpr (W == 4)
+            if constexpr (W == 4) {
               records_to_lanes4(own_rec, own_rows);
-            else
+            } else {
 #if defined(__AVX512F__)
-              records_to_lanes8<Gather>(own_rec, own_rows,
-                                        std::make_index_sequence<Record::kSize>{});
+              if constexpr (kCompact)
+                compact_own_rows8<Gather, Record, CL, typename N::RecordFields>(
+                    own_rec, own_rows, compact_mass, compact_weight,
+                    std::make_index_sequence<CL::kSize>{});
+              else
+                records_to_lanes8<Gather>(own_rec, own_rows,
+                                          std::make_index_sequence<Record::kSize>{});
 #else
               for (std::size_t c = 0; c < Record::kSize; ++c) lanes_of(own_rec, c, own_rows[c]);
 #endif
+            }
             const auto bound = std::make_tuple(for_particle(
                 std::get<typename S::Term>(terms),
                 OwnView<Record,
@@ -807,8 +817,15 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             const auto gather_slot = [&](std::size_t k, Slot& out) SPHDEM_INLINE {
               const std::int32_t* const j = slot_index.data() + k * W;
               const double* rj[W];
-              for (int l = 0; l < W; ++l) rj[l] = rec[j[l]].v;
-              Gather::template rows<Lanes, Record>(own_rows, rj, out.rows);
+              for (int l = 0; l < W; ++l) rj[l] = kCompact ? crec[j[l]].v : rec[j[l]].v;
+#if defined(__AVX512F__)
+              if constexpr (kCompact)
+                CompactGather<Gather, Lanes, Record, CL, typename N::LaneFields>::rows(
+                    own_rows, rj, out.rows, compact_mass, compact_weight,
+                    std::make_index_sequence<Lanes::kSize>{});
+              else
+#endif
+                Gather::template rows<Lanes, Record>(own_rows, rj, out.rows);
               out.dist = pair_distance(std::type_identity<VR>{},
                                        [&](std::size_t row) { return out.rows[row]; });
             };
@@ -865,7 +882,9 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
                     // From the particle's record, computed once already
                     // (FreeSurfaceFlag::WantedFrom).
                     side_i = Side::wanted_from(
-                        sp, own_rec[l][Record::template offset<typename Side::WantedFrom>()]);
+                        sp, own_rec[l][kCompact
+                                           ? CL::template offset<typename Side::WantedFrom>()
+                                           : Record::template offset<typename Side::WantedFrom>()]);
                   else if constexpr (requires { Side::template wanted<D>(sp, ps, i); })
                     side_i = Side::template wanted<D>(sp, ps, i);
                   const double sums[1] = {side_out[l]};
@@ -874,10 +893,18 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               }
             }
           }
+        };
 #if defined(__AVX512F__)
-        }(static_cast<const __m512d*>(nullptr));
+        if constexpr (kCompactable) {
+          if (compact)
+            per_lane(static_cast<const __m512d*>(nullptr), std::true_type{});
+          else
+            per_lane(static_cast<const __m512d*>(nullptr), std::false_type{});
+        } else {
+          per_lane(static_cast<const __m512d*>(nullptr), std::false_type{});
+        }
 #else
-        }(static_cast<const __m256d*>(nullptr));
+        per_lane(static_cast<const __m256d*>(nullptr), std::false_type{});
 #endif
 #endif
         return;
