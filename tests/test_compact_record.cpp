@@ -37,24 +37,6 @@ constexpr bool kCompactBuild = true;
 constexpr bool kCompactBuild = false;
 #endif
 
-// The bench_sph channel (bench/bench_sph.cpp) at 40 x 16 spacings with the
-// shipped physics (anti-clump, delta-SPH): periodic in x, walls at rest below
-// and above, a body force, no free surface.
-Case channel() {
-  const char* text = R"(name: channel
-dimension: 2
-resin: {density: 900, viscosity: 0.1, sound_speed: 50}
-numerics: {spacing: 3.0e-4, h_over_spacing: 1.2, fixed_dt: 1.4e-6, end_time: 1.0, anti_clump: true, delta_sph: 0.1}
-mold: {wall_layers: 3, shapes: [{box: {min: [0, 0], max: [0.012, 0.0048]}}]}
-fill: [{box: {min: [0, 0], max: [0.012, 0.0048]}}]
-body_force: [1000, 0]
-periodic: [x]
-domain: {min: [0, -0.0012], max: [0.012, 0.006]}
-output: {progress_every: 1000000}
-)";
-  return load_case_from_string(text, "channel.yaml", {});
-}
-
 // Runs the case `steps` steps with the loop's records chosen by `use`;
 // returns the particles and how many loop runs used the compact record.
 template <int D>
@@ -82,7 +64,8 @@ std::size_t expect_same_run(const Case& c, int steps) {
 }
 
 TEST(CompactRecord, ChannelRunIsBitwiseTheFullRecord) {
-  const std::size_t runs = expect_same_run<2>(channel(), 300);
+  const std::size_t runs =
+      expect_same_run<2>(testing::small_channel({"numerics.delta_sph=0.1"}), 300);
   // The set-up's loop run and one per step (the channel has no free
   // surface, so no second run).
   if (kCompactBuild) {

@@ -31,21 +31,9 @@ using terms::PassRun;
 using testing::quiet;
 using testing::world;
 
-// The bench_sph channel (bench/bench_sph.cpp) at 40 x 16 spacings: periodic
-// in x, walls below and above, a body force, no free surface; anti-clump on.
+// The bench_sph channel (testing::small_channel): no free surface, anti-clump on.
 Case channel(std::vector<std::string> sets = {}) {
-  const char* text = R"(name: channel
-dimension: 2
-resin: {density: 900, viscosity: 0.1, sound_speed: 50}
-numerics: {spacing: 3.0e-4, h_over_spacing: 1.2, fixed_dt: 1.4e-6, end_time: 1.0, anti_clump: true}
-mold: {wall_layers: 3, shapes: [{box: {min: [0, 0], max: [0.012, 0.0048]}}]}
-fill: [{box: {min: [0, 0], max: [0.012, 0.0048]}}]
-body_force: [1000, 0]
-periodic: [x]
-domain: {min: [0, -0.0012], max: [0.012, 0.006]}
-output: {progress_every: 1000000}
-)";
-  return load_case_from_string(text, "channel.yaml", sets);
+  return testing::small_channel(sets);
 }
 
 // The dam-break column without particle shifting and without the pass's

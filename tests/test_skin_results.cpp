@@ -30,22 +30,11 @@ namespace {
 using testing::quiet;
 using testing::world;
 
-// The bench_sph channel (bench/bench_sph.cpp), small: walls below and
-// above, periodic in x, a body force, anti-clump and delta-SPH on.
+// The bench_sph channel (testing::small_channel) with delta-SPH, the skin
+// and the body force given.
 Case channel(const std::string& skin, const std::string& body_force = "1000") {
-  const char* text = R"(name: channel
-dimension: 2
-resin: {density: 900, viscosity: 0.1, sound_speed: 50}
-numerics: {spacing: 3.0e-4, h_over_spacing: 1.2, fixed_dt: 1.4e-6, end_time: 1.0, anti_clump: true, delta_sph: 0.1}
-mold: {wall_layers: 3, shapes: [{box: {min: [0, 0], max: [0.012, 0.0048]}}]}
-fill: [{box: {min: [0, 0], max: [0.012, 0.0048]}}]
-periodic: [x]
-domain: {min: [0, -0.0012], max: [0.012, 0.006]}
-output: {progress_every: 1000000}
-)";
-  return load_case_from_string(
-      text, "channel.yaml",
-      {"numerics.neighbor_skin=" + skin, "body_force=[" + body_force + ", 0]"});
+  return testing::small_channel({"numerics.delta_sph=0.1", "numerics.neighbor_skin=" + skin,
+                                 "body_force=[" + body_force + ", 0]"});
 }
 
 Case input(const std::string& file, const std::string& skin, std::vector<std::string> sets = {}) {

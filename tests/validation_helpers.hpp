@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "sphdem/config/config.hpp"
 #include "sphdem/solver/solver.hpp"
@@ -26,6 +27,24 @@ inline const Comm& world() {
 
 inline Case load_input(const std::string& relative, const std::vector<std::string>& sets = {}) {
   return load_case(std::string(SPHDEM_SOURCE_DIR) + "/inputs/" + relative, sets);
+}
+
+// The bench_sph channel (bench/bench_sph.cpp) at 40 x 16 spacings:
+// periodic in x, walls below and above, a body force, no free surface;
+// anti-clump on. `sets` adds to it (delta-SPH, the skin, the body force).
+inline Case small_channel(const std::vector<std::string>& sets = {}) {
+  const char* text = R"(name: channel
+dimension: 2
+resin: {density: 900, viscosity: 0.1, sound_speed: 50}
+numerics: {spacing: 3.0e-4, h_over_spacing: 1.2, fixed_dt: 1.4e-6, end_time: 1.0, anti_clump: true}
+mold: {wall_layers: 3, shapes: [{box: {min: [0, 0], max: [0.012, 0.0048]}}]}
+fill: [{box: {min: [0, 0], max: [0.012, 0.0048]}}]
+body_force: [1000, 0]
+periodic: [x]
+domain: {min: [0, -0.0012], max: [0.012, 0.006]}
+output: {progress_every: 1000000}
+)";
+  return load_case_from_string(text, "channel.yaml", sets);
 }
 
 template <int D>
