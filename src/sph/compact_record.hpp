@@ -1,20 +1,20 @@
 #pragma once
 // The pair loop's compact record (docs/performance.md, "A record of eight
 // doubles"). In 2D, when a loop's record holds the mass m, the continuity's
-// velocity v and the delta-SPH weight, and at this step
+// velocity v, the delta-SPH weight, rho and V = m / rho, and at this step
 //   - every particle (owned and ghost) has the same mass, bit for bit,
 //   - every wall particle is at rest (v = +0 on each axis),
 //   - every resin particle's vwall is its v (wall_boundary.cpp sets it so),
 //   - every density is positive,
-// those three fields carry nothing the others (with V = m / rho) do not: m is the one mass,
+// three of those fields carry nothing the others do not: m is the one mass,
 // v_j is vw_j for resin and +0 for a wall, and the weight is -2 delta h c0 V_j
 // for resin and 0 for a wall (delta_sph.hpp). The compact record leaves them
 // out and stores rho with the sign bit set at a wall, which says which is
 // which. The gather makes the full record's lane rows from it with the same
-// bits as gathering the full record (compact_rows8), so no term sees a
-// difference; the channel's record goes from 12 doubles (three quads for the
-// eight-record transpose, lane_gather.hpp) to 8 (two). Test:
-// SphPairLoop.CompactRecordGivesTheBitsOfTheFullRecord.
+// bits as gathering the full record (CompactGather, compact_own_rows8), so
+// no term sees a difference; the channel's record goes from 12 doubles
+// (three quads for the eight-record transpose, lane_gather.hpp) to 8 (two).
+// Tests: CompactRecord.* (tests/test_compact_record.cpp).
 #include <array>
 #include <bit>
 #include <cstddef>
