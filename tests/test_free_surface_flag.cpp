@@ -10,8 +10,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -193,6 +196,45 @@ TEST(FreeSurfaceFlag, InsideThePairLoopInAChannel) {
 
 TEST(FreeSurfaceFlag, InsideThePairLoopIn3D) {
   EXPECT_GT(expect_flag_in_the_loop_is_the_pass<3>(sloshing_3d(), 100), 0);
+}
+
+// flags8, the flag of eight particles in a row inside the pair loop
+// (pair_loop.hpp), is wanted_from ? finish : 0 lane by lane: pressures of
+// both signs and +-0, a P / rho^2 whose R_a underflows to 0 (not wanted),
+// sums on both sides of the threshold and on it, and a NaN sum (0).
+TEST(FreeSurfaceFlag, EightFlagsAreTheFlagsOneAtATime) {
+#if defined(__AVX512F__)
+  SphParams sp;
+  sp.anti_clump = true;
+  sp.anti_clump_eps = 0.2;
+  const double thr = terms::kFreeSurfaceThreshold<2>;
+  const double por2s[] = {-1e-3, 2e-3, 0.0, -0.0, -1e-320, -5.0, 1e-300, -7e-7};
+  const double sums[] = {
+      1.0,  thr, std::nextafter(thr, 0.0), 0.0, std::numeric_limits<double>::quiet_NaN(),
+      -2.0, 3.0, std::nextafter(thr, 10.0)};
+  int flagged = 0;
+  for (int shift = 0; shift < 8; ++shift) {  // every pressure against every sum
+    alignas(64) double por2[8], sum[8], got[8];
+    for (int l = 0; l < 8; ++l) {
+      por2[l] = por2s[l];
+      sum[l] = sums[(l + shift) % 8];
+    }
+    _mm512_store_pd(
+        got, terms::FreeSurfaceFlag::flags8<2>(sp, _mm512_load_pd(por2), _mm512_load_pd(sum)));
+    for (int l = 0; l < 8; ++l) {
+      const double want = terms::FreeSurfaceFlag::wanted_from(sp, por2[l])
+                              ? terms::FreeSurfaceFlag{}.finish<2>(&sum[l])
+                              : 0.0;
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(got[l]), std::bit_cast<std::uint64_t>(want))
+          << "P/rho^2 " << por2[l] << " sum " << sum[l];
+      flagged += want != 0.0 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(flagged, 0);
+  EXPECT_LT(flagged, 64);
+#else
+  GTEST_SKIP() << "flags8 is built with AVX-512 only";
+#endif
 }
 
 }  // namespace

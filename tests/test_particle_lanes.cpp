@@ -113,6 +113,42 @@ TEST(ParticleLanes, ComponentsOfEightVectors) {
   check_components<3>();
 }
 
+// store_vectors is component's inverse: eight particles' D-vectors written
+// from their component rows, and nothing before or after them touched.
+template <int D>
+void check_store_vectors() {
+  for (const std::size_t i : {std::size_t{0}, std::size_t{5}}) {
+    std::vector<double> p(D * 16, -1.0);
+    __m512d rows[D];
+    for (int d = 0; d < D; ++d) {
+      alignas(64) double c[8];
+      for (int l = 0; l < 8; ++l) c[l] = 10.0 * l + d + 0.5;
+      rows[d] = _mm512_load_pd(c);
+    }
+    lanes::store_vectors<D>(p.data(), i, rows);
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      const bool ours = k >= D * i && k < D * (i + 8);
+      const double want = ours ? 10.0 * static_cast<double>((k - D * i) / D) +
+                                     static_cast<double>((k - D * i) % D) + 0.5
+                               : -1.0;
+      EXPECT_EQ(p[k], want) << "D " << D << " group at " << i << " double " << k;
+    }
+    __m512d back[D];
+    lanes::load_vectors<D>(p.data(), i, 0xff, back);
+    for (int d = 0; d < D; ++d) {
+      alignas(64) double got[8], want[8];
+      _mm512_store_pd(got, lanes::component<D>(back, d));
+      _mm512_store_pd(want, rows[d]);
+      for (int l = 0; l < 8; ++l) EXPECT_EQ(got[l], want[l]) << "D " << D << " lane " << l;
+    }
+  }
+}
+
+TEST(ParticleLanes, StoreVectorsIsComponentsInverse) {
+  check_store_vectors<2>();
+  check_store_vectors<3>();
+}
+
 TEST(ParticleLanes, LargestLane) {
   for (int l = 0; l < 8; ++l) {
     alignas(64) double x[8] = {1, 2, 3, 4, 5, 6, 7, 8};

@@ -731,10 +731,20 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
           while (at < count) {
             std::uint32_t ids[W];
             int m = 0;
-            for (; at < count && m < W; ++at) {
-              const std::size_t i = redo != nullptr ? redo[at] : at;
-              if (ps.kind[i] == Kind::Fluid) ids[m++] = static_cast<std::uint32_t>(i);
-            }
+#if defined(SPHDEM_PARTICLE_LANES)
+            // Eight resin particles in a row (most groups): one compare.
+            if constexpr (W == 8)
+              if (redo == nullptr && at + W <= count && lanes::resin(ps.kind.data(), at) == 0xff) {
+                for (int l = 0; l < W; ++l) ids[l] = static_cast<std::uint32_t>(at + l);
+                m = W;
+                at += W;
+              }
+#endif
+            if (m == 0)
+              for (; at < count && m < W; ++at) {
+                const std::size_t i = redo != nullptr ? redo[at] : at;
+                if (ps.kind[i] == Kind::Fluid) ids[m++] = static_cast<std::uint32_t>(i);
+              }
             if (m == 0) break;
             for (int l = m; l < W; ++l) ids[l] = ids[m - 1];
             // The particles' records, one lane each.
@@ -866,16 +876,49 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
             __builtin_memcpy(drho_out, &drho, sizeof(VR));
             __builtin_memcpy(side_out, &side_sum, sizeof(VR));
             __builtin_memcpy(r2_out, &r2min, sizeof(VR));
-            for (int l = 0; l < m; ++l) {
+            // Eight particles in a row (most groups): their a, drho, close
+            // neighbours and side flag as whole registers, with the
+            // operations the loop below does one particle at a time.
+            bool in_a_row = false, side_in_a_row = false;
+#if defined(SPHDEM_PARTICLE_LANES)
+            if constexpr (W == 8) {
+              in_a_row = m == W && ids[W - 1] - ids[0] == W - 1;
+              if (in_a_row) {
+                VR a_rows[D];
+                for (int d = 0; d < D; ++d) a_rows[d] = lane_add(acc[d], splat<VR>(g[d]));
+                lanes::store_vectors<D>(ps.a.data()->data(), ids[0], a_rows);
+                _mm512_storeu_pd(ps.drho.data() + ids[0], drho);
+                if (close2 > 0.0)
+                  for (__mmask8 near = _mm512_cmp_pd_mask(r2min, splat<VR>(close2), _CMP_LT_OQ);
+                       near != 0; near = static_cast<__mmask8>(near & (near - 1)))
+                    close->particles.push_back(ids[__builtin_ctz(near)]);
+                if constexpr (kSide) {
+                  if constexpr (requires { Side::template flags8<D>(sp, r2min, r2min); } &&
+                                contains_v<typename Side::WantedFrom, typename N::RecordFields>) {
+                    side_in_a_row = true;
+                    if (side)
+                      _mm512_storeu_pd(
+                          Side::output(ps).data() + ids[0],
+                          Side::template flags8<D>(
+                              sp, own_rows[Record::template offset<typename Side::WantedFrom>()],
+                              side_sum));
+                  }
+                }
+              }
+            }
+#endif
+            for (int l = 0; l < m && !(in_a_row && (!kSide || side_in_a_row)); ++l) {
               const std::size_t i = ids[l];
-              Vec<D> a;
-              for (int d = 0; d < D; ++d) a[d] = acc_out[d][l];
-              ps.a[i] = a + g;
-              ps.drho[i] = drho_out[l];
-              if (close2 > 0.0 && r2_out[l] < close2)
-                close->particles.push_back(static_cast<std::uint32_t>(i));
+              if (!in_a_row) {
+                Vec<D> a;
+                for (int d = 0; d < D; ++d) a[d] = acc_out[d][l];
+                ps.a[i] = a + g;
+                ps.drho[i] = drho_out[l];
+                if (close2 > 0.0 && r2_out[l] < close2)
+                  close->particles.push_back(static_cast<std::uint32_t>(i));
+              }
               if constexpr (kSide) {
-                if (side) {
+                if (side && !side_in_a_row) {
                   bool side_i = true;
                   if constexpr (requires { Side::wanted_from(sp, 0.0); } &&
                                 contains_v<typename Side::WantedFrom, typename N::RecordFields>)

@@ -125,6 +125,29 @@ __m512d component(const __m512d (&r)[D], int d) {
     c = _mm512_mask_permutexvar_pd(c, from_third, _mm512_load_si512(high), r[2]);
   return c;
 }
+
+// The inverse of component: rows[d] lane l is particle i + l's component
+// d; stores the eight particles' D-vectors at p[D i] .. (permutations: no
+// arithmetic).
+template <int D>
+void store_vectors(double* p, std::size_t i, const __m512d (&rows)[D]) {
+  static_assert(D == 2 || D == 3);
+  for (int q = 0; q < D; ++q) {
+    alignas(64) long long from_two[8], from_last[8];
+    __mmask8 last = 0;
+    for (int k = 0; k < 8; ++k) {
+      const int at = 8 * q + k;  // its place among the 8 D doubles
+      const int d = at % D, l = at / D;
+      from_two[k] = d == 0 ? l : d == 1 ? 8 + l : 0;
+      from_last[k] = d == 2 ? l : 0;
+      if (d == 2) last = static_cast<__mmask8>(last | (1u << k));
+    }
+    __m512d out = _mm512_permutex2var_pd(rows[0], _mm512_load_si512(from_two), rows[1]);
+    if constexpr (D == 3)
+      out = _mm512_mask_permutexvar_pd(out, last, _mm512_load_si512(from_last), rows[2]);
+    _mm512_storeu_pd(p + D * i + 8 * static_cast<std::size_t>(q), out);
+  }
+}
 #endif
 
 #if defined(SPHDEM_PARTICLE_LANES4)

@@ -24,6 +24,10 @@
 #include <cstddef>
 #include <vector>
 
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
+
 #include "../record_fields.hpp"
 #include "anti_clump.hpp"
 #include "pressure.hpp"
@@ -89,6 +93,23 @@ struct FreeSurfaceFlag {
   double finish(const double* sums) const {
     return sums[0] < kFreeSurfaceThreshold<D> ? 1.0 : 0.0;
   }
+#if defined(__AVX512F__)
+  // Eight particles' flags, wanted_from ? finish : 0 lane by lane, from
+  // their P / rho^2 and their sums (the pair loop's eight particles in a
+  // row, pair_loop.hpp): the same comparisons and the same product.
+  template <int D>
+  static __m512d flags8(const SphParams& sp, __m512d p_over_rho2, __m512d sums) {
+    const __m512d zero = _mm512_setzero_pd();
+    const __mmask8 negative = _mm512_cmp_pd_mask(p_over_rho2, zero, _CMP_LT_OQ);
+    const __m512d r =
+        _mm512_maskz_mul_round_pd(negative, _mm512_set1_pd(-sp.anti_clump_eps), p_over_rho2,
+                                  _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+    const __mmask8 wanted = _mm512_cmp_pd_mask(r, zero, _CMP_NEQ_UQ);
+    const __mmask8 surface =
+        _mm512_mask_cmp_pd_mask(wanted, sums, _mm512_set1_pd(kFreeSurfaceThreshold<D>), _CMP_LT_OQ);
+    return _mm512_maskz_mov_pd(surface, _mm512_set1_pd(1.0));
+  }
+#endif
   // With every V_j > 0 each part -V_j F r^2 is >= 0 (F <= 0; a t rounded
   // just below 0 at the support's edge gives a part some 1e-40 of the
   // threshold, below its rounding), so a sum in list order never falls
