@@ -907,7 +907,9 @@ void rates_loop(const SphParams& sp, const NeighborList<D>& nl, SphParticles<D>&
               }
             }
 #endif
-            for (int l = 0; l < m && !(in_a_row && (!kSide || side_in_a_row)); ++l) {
+            // What the registers did not store, one particle at a time.
+            const bool all_stored = in_a_row && (!kSide || side_in_a_row);
+            for (int l = 0; l < m && !all_stored; ++l) {
               const std::size_t i = ids[l];
               if (!in_a_row) {
                 Vec<D> a;
