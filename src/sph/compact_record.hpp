@@ -189,9 +189,7 @@ template <class Gather, class Record, class CL, class RecordFields, std::size_t.
                                                      __m512d mass, __m512d weight_factor,
                                                      std::index_sequence<C...>) {
   __m512d compact[CL::kSize];
-  ((compact[C] =
-        Gather::template row8<static_cast<int>(C), -1>(static_cast<const double*>(nullptr), rec)),
-   ...);
+  records_to_lanes8<Gather>(rec, compact, std::index_sequence<C...>{});
   [&]<class... F>(Fields<F...>) {
     (
         [&] {

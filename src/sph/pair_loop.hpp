@@ -461,20 +461,7 @@ inline constexpr bool kNarrowSlots8 = true;
 inline constexpr bool kNarrowSlots8 = false;
 #endif
 
-#if defined(__AVX512F__)
-// Eight records' first kSize doubles as lane rows, rows[c] lane l =
-// rec[l][c] (lanes_of for every c at once), by the gather's eight-at-a-time
-// transpose (GatherLanes::row8, lane_gather.hpp). Reads each record's
-// doubles in fours: up to three doubles after rec[l] + kSize must be
-// readable (kRecordSpare).
-template <class Gather, std::size_t... C>
-SPHDEM_INLINE inline void records_to_lanes8(const double* const (&rec)[8], __m512d* rows,
-                                            std::index_sequence<C...>) {
-  ((rows[C] =
-        Gather::template row8<static_cast<int>(C), -1>(static_cast<const double*>(nullptr), rec)),
-   ...);
-}
-#endif
+// records_to_lanes8: lane_gather.hpp.
 
 // r2 < least ? r2 : least, lane by lane.
 template <class VR>
