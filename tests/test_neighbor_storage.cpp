@@ -18,6 +18,8 @@
 #include "sphdem/neighbor/neighbor.hpp"
 #include "sphdem/particles/particles.hpp"
 
+#include "../src/neighbor/cell_candidates.hpp"
+
 namespace sphdem {
 namespace {
 
@@ -219,8 +221,27 @@ TEST(NeighborStorage, GidsPast32BitsMatchBruteForce) {
   expect_all_rows(ps, nl);
 }
 
+// The candidates' sort, every size on both sides of the counted limit
+// (kCountedKeys) and past it: std::sort's order. Keys as the build makes
+// them (gid << 32 | index), in random order, with gids near 2^32 too.
+TEST(NeighborStorage, SortKeysOfEverySizeIsStdSort) {
+  std::mt19937_64 rng(11);
+  std::vector<std::uint64_t> spare;
+  for (std::size_t m = 0; m <= 2 * neighbor_detail::kCountedKeys + 3; ++m) {
+    std::vector<std::uint64_t> key(m);
+    for (std::size_t k = 0; k < m; ++k) {
+      const std::uint64_t gid = m % 2 == 0 ? rng() % 5000 : 0xffffffffULL - rng() % 5000;
+      key[k] = gid << 32 | static_cast<std::uint32_t>(k);
+    }
+    std::vector<std::uint64_t> expected = key;
+    std::sort(expected.begin(), expected.end());
+    neighbor_detail::sort_keys(key.data(), m, spare);
+    EXPECT_EQ(key, expected) << m << " keys";
+  }
+}
+
 // In 2D a cell's particles share one list of candidates, put in list order
-// once (src/neighbor/cell_candidates.hpp): up to 64 of them by a branch-free
+// once (src/neighbor/cell_candidates.hpp): up to kCountedKeys of them by a branch-free
 // rank sort, more by std::sort. A large cut-off (blocks of about 340
 // candidates), a small one (about 4) and a cloud not sorted by cell (a
 // cell's particles far apart in memory, its candidates gathered again and

@@ -4,7 +4,9 @@
 // rebuilds after the first allocate nothing.
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <numeric>
+#include <span>
 #include <stdexcept>
 #include <vector>
 
@@ -52,6 +54,30 @@ TEST(PermuteOwned, PermutationInPlaceKeepsGhostsAndStorage) {
   EXPECT_EQ(ps.gid[8], 108);
   EXPECT_EQ(ps.x.data()->data(), x);  // no fresh vectors
   EXPECT_EQ(ps.gid.data(), gid);
+}
+
+// The sort by cell's way: gathered into spare room and copied back, the
+// same particles in the same slots as following the cycles; with room for
+// fewer than all the owned particles' values of a field (a spare one byte
+// short, or none), the cycles are followed; either way the fields keep
+// their storage and the ghosts.
+TEST(PermuteOwned, GatheredIntoSpareRoomAsByCycles) {
+  const std::vector<std::int32_t> order{3, 0, 6, 5, 1, 2, 4};
+  const std::size_t m = order.size();
+  const std::size_t room = widest_field(numbered(m, 2)) * m + 64;
+  for (const std::size_t spare_bytes : {room, room - 64 - 1, std::size_t{0}}) {
+    SphParticles<2> ps = numbered(m, 2);
+    const double* x = ps.x.data()->data();
+    // Unaligned on purpose: the permutation aligns within the room it gets.
+    std::vector<std::byte> spare(spare_bytes + 1, std::byte{0x5a});
+    permute_owned_fields(ps, std::span<const std::int32_t>(order),
+                         std::span<std::byte>(spare.data() + 1, spare_bytes));
+    for (std::size_t k = 0; k < m; ++k) expect_particle(ps, k, static_cast<std::size_t>(order[k]));
+    EXPECT_EQ(ps.gid[m], 107);
+    EXPECT_EQ(ps.gid[m + 1], 108);
+    EXPECT_EQ(ps.x.data()->data(), x);
+  }
+  EXPECT_EQ(widest_field(numbered(1, 0)), sizeof(Vec<2>));
 }
 
 TEST(PermuteOwned, SeveralCyclesAndFixedPoints) {

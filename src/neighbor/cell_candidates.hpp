@@ -47,12 +47,20 @@ bool image_before(const SphParticles<D>& ps, std::int32_t a, std::int32_t b) {
                                       ps.x[b].end());
 }
 
-// Sorts m distinct keys in place. Up to 64 keys with AVX-512 or AVX2: each
-// key's place is the count of keys below it (no branches); more, std::sort.
+// The most keys sort_keys counts instead of calling std::sort. Counting
+// up to 128 with AVX-512 (a 2D cell's block holds about 69 candidates in the
+// channels) saved about 0.2 % of the 21k channel's time: the count's m^2 / 8
+// compares cost about what std::sort does there (docs/performance.md, "The
+// rebuild's sorts").
+inline constexpr std::size_t kCountedKeys = 64;
+
+// Sorts m distinct keys in place. Up to kCountedKeys keys with AVX-512 or
+// AVX2: each key's place is the count of keys below it (no branches);
+// more, std::sort.
 inline void sort_keys(std::uint64_t* key, std::size_t m, std::vector<std::uint64_t>& spare) {
 #if defined(SPHDEM_CANDIDATES_AVX512)
-  if (m <= 64) {
-    __m512i r[8];
+  if (m <= kCountedKeys) {
+    __m512i r[kCountedKeys / 8];
     const std::size_t regs = (m + 7) / 8;
     const __m512i top = _mm512_set1_epi64(-1);  // above every key (an index is below 2^31)
     for (std::size_t q = 0; q < regs; ++q) {
@@ -74,8 +82,8 @@ inline void sort_keys(std::uint64_t* key, std::size_t m, std::vector<std::uint64
 #elif defined(SPHDEM_CANDIDATES_AVX2)
   // The same count four keys at a time. AVX2 compares signed 64-bit
   // integers: flipping every key's top bit keeps their unsigned order.
-  if (m <= 64) {
-    __m256i r[16];
+  if (m <= kCountedKeys) {
+    __m256i r[kCountedKeys / 4];
     const std::size_t regs = (m + 3) / 4;
     const __m256i flip = _mm256_set1_epi64x(static_cast<long long>(1ULL << 63));
     // The padding, above every flipped key (an index is below 2^31).

@@ -22,7 +22,10 @@
 //   kLocal           none of these: scratch of the rank that owns it
 #include <Eigen/Core>
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <new>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -108,16 +111,32 @@ std::size_t record_bytes(const P& ps, Want want) {
   return bytes;
 }
 
+// The widest element of the fields ps holds, in bytes: a field's share of
+// the scratch that permute_owned_fields can use.
+template <class P>
+std::size_t widest_field(const P& ps) {
+  std::size_t bytes = 0;
+  ps.for_each_field([&](const char*, const auto& field, FieldPolicy) {
+    bytes = std::max(bytes, sizeof(typename std::decay_t<decltype(field)>::value_type));
+  });
+  return bytes;
+}
+
 // Reorders the first order.size() particles of any registry container
 // (SPH or DEM): new slot k holds old particle order[k]. `order` is either
 // increasing (the particles that stay at a migration) or a permutation of
 // 0 .. order.size()-1 (the sort by cell); anything else is a logic error.
 // In place, so the fields keep their memory across rebuilds (no fresh
 // vectors, no page faults; docs/performance.md, "Rebuilds"): an increasing
-// list is compacted forward, a permutation is followed cycle by cycle.
+// list is compacted forward. A permutation is gathered into `spare` and
+// copied back when spare holds order.size() elements of the field (the
+// sort by cell passes the pair loop's idle record buffer,
+// sphdem/core/scratch.hpp): independent loads, where following it cycle by
+// cycle chains each load on the one before (docs/performance.md, "The
+// rebuild's sorts"). Otherwise it is followed cycle by cycle.
 // Index: std::size_t, or std::int32_t (the sort by cell's, half the scratch).
 template <class P, class Index>
-void permute_owned_fields(P& ps, std::span<const Index> order) {
+void permute_owned_fields(P& ps, std::span<const Index> order, std::span<std::byte> spare = {}) {
   static_assert(std::is_integral_v<Index>);
   const std::size_t m = order.size();
   const auto at = [&](std::size_t k) { return static_cast<std::size_t>(order[k]); };
@@ -132,9 +151,19 @@ void permute_owned_fields(P& ps, std::span<const Index> order) {
     }
   }
   ps.for_each_field([&](const char*, auto& field, FieldPolicy) {
+    using T = typename std::decay_t<decltype(field)>::value_type;
+    static_assert(std::is_trivially_destructible_v<T>);
     if (increasing) {
       // order[k] >= k: slot order[k] is read before anything overwrites it.
       for (std::size_t k = 0; k < m; ++k) field[k] = field[at(k)];
+      return;
+    }
+    void* room = spare.data();
+    std::size_t space = spare.size();
+    if (m > 0 && std::align(alignof(T), m * sizeof(T), room, space) != nullptr) {
+      T* const gathered = static_cast<T*>(room);
+      for (std::size_t k = 0; k < m; ++k) new (gathered + k) T(field[at(k)]);
+      std::copy(gathered, gathered + m, field.begin());
       return;
     }
     done.assign(m, false);
