@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -80,6 +81,33 @@ TEST(ParticleLanes, ForEachOfKindVisitsEachInOrder) {
         if (ps.kind[i] == k) want.push_back(i);
       lanes::for_each_of_kind(ps.kind.data(), n, k, [&](std::size_t i) { got.push_back(i); });
       EXPECT_EQ(got, want) << n << " particles";
+    }
+  }
+}
+
+// Every size around whole groups, and the values the flags' scan can meet:
+// +0 and -0 are skipped; a NaN, infinities, a denormal, 1 and -1 are visited.
+TEST(ParticleLanes, ForEachNonzeroVisitsEachInOrder) {
+  const double kinds[] = {0.0,
+                          -0.0,
+                          1.0,
+                          -1.0,
+                          std::nan(""),
+                          std::numeric_limits<double>::infinity(),
+                          -std::numeric_limits<double>::infinity(),
+                          std::numeric_limits<double>::denorm_min(),
+                          0.0,
+                          0.0,
+                          -0.0};
+  for (std::size_t n = 0; n <= 40; ++n) {
+    for (std::size_t shift = 0; shift < 11; ++shift) {
+      std::vector<double> v(n);
+      for (std::size_t i = 0; i < n; ++i) v[i] = kinds[(i * 7 + shift) % 11];
+      std::vector<std::size_t> want, got;
+      for (std::size_t i = 0; i < n; ++i)
+        if (!(v[i] == 0.0)) want.push_back(i);
+      lanes::for_each_nonzero(v.data(), n, [&](std::size_t i) { got.push_back(i); });
+      EXPECT_EQ(got, want) << n << " values, shift " << shift;
     }
   }
 }

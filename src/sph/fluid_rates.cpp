@@ -9,6 +9,7 @@
 #include "pair_loop.hpp"
 #include "pass_loop.hpp"
 #include "sph_terms.hpp"
+#include "sphdem/particles/particle_lanes.hpp"
 #include "sphdem/sph/fluid_rates.hpp"
 
 namespace sphdem {
@@ -107,8 +108,8 @@ void pair_loop_with_flag(const SphParams& sp, const NeighborList<D>& nl, SphPart
   thread_local std::vector<std::uint32_t> refill, redo;
   refill.clear();
   redo.clear();
-  for (std::size_t j = 0; j < ps.size(); ++j)
-    if (flag[j] != 0.0) refill.push_back(static_cast<std::uint32_t>(j));
+  lanes::for_each_nonzero(flag.data(), ps.size(),
+                          [&](std::size_t j) { refill.push_back(static_cast<std::uint32_t>(j)); });
   if (refill.empty()) return;
   particles_near_flags<D>(nl, ps, flag, refill, redo);
   run.side = false;
