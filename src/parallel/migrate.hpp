@@ -5,6 +5,7 @@
 // migration.cpp; a header so that tests can move a test registry too.
 #include <algorithm>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "exchange.hpp"
@@ -24,31 +25,38 @@ struct Departures {
   std::vector<std::size_t> stay;
 };
 
-// The owner is looked up again instead of kept: no scratch per particle at
-// a rebuild, where the lists and records of the last step are still held
-// (docs/performance.md, "16-bit neighbour lists").
+// One owner lookup per particle: the few that leave are listed with their
+// destination as they are found (no scratch per particle at a rebuild,
+// where the lists and records of the last step are still held;
+// docs/performance.md, "16-bit neighbour lists"), then grouped by rank.
 template <int D, class P>
 Departures sort_departures(const Decomposition<D>& dec, const P& ps, bool with_stay) {
   const int me = dec.comm().rank();
   Departures d;
   d.counts.assign(static_cast<std::size_t>(dec.comm().size()), 0);
+  std::vector<std::pair<std::size_t, int>> leaving;  // (particle, rank), in order
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     const int dest = dec.owner(ps.x[i]);
-    if (dest != me) ++d.counts[static_cast<std::size_t>(dest)];
+    if (dest == me) continue;
+    leaving.emplace_back(i, dest);
+    ++d.counts[static_cast<std::size_t>(dest)];
   }
+  if (leaving.empty()) return d;
   std::vector<std::size_t> next(d.counts.size() + 1, 0);
   for (std::size_t r = 0; r < d.counts.size(); ++r) {
     next[r + 1] = next[r] + static_cast<std::size_t>(d.counts[r]);
   }
-  if (next.back() == 0) return d;
-  d.leave.resize(next.back());
-  if (with_stay) d.stay.reserve(ps.n_owned - next.back());
-  for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    const int dest = dec.owner(ps.x[i]);
-    if (dest != me)
-      d.leave[next[static_cast<std::size_t>(dest)]++] = i;
-    else if (with_stay)
-      d.stay.push_back(i);
+  d.leave.resize(leaving.size());
+  for (const auto& [i, dest] : leaving) d.leave[next[static_cast<std::size_t>(dest)]++] = i;
+  if (with_stay) {
+    d.stay.reserve(ps.n_owned - leaving.size());
+    std::size_t k = 0;  // the next leaving particle
+    for (std::size_t i = 0; i < ps.n_owned; ++i) {
+      if (k < leaving.size() && leaving[k].first == i)
+        ++k;
+      else
+        d.stay.push_back(i);
+    }
   }
   return d;
 }
