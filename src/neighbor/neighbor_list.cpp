@@ -461,13 +461,12 @@ void sort_by_cell(SphParticles<D>& ps, double cell) {
   // order of sorting by the pair (cell, gid), with 8 bytes of scratch per
   // particle instead of a long key and a size_t order.
   thread_local std::vector<std::int32_t> start;
-  // The scratch holds cell_of and order (n int32 each), then room for one
-  // field's values, which the permutation at the end gathers into.
+  // The scratch holds cell_of and order, then room for one field's values,
+  // which the permutation at the end gathers into.
   const std::size_t field_bytes = widest_field(ps) * n + 64;  // 64: room to align
-  double* const scratch = shared_scratch(n + (field_bytes + 7) / 8);
-  std::int32_t* cell_of = reinterpret_cast<std::int32_t*>(scratch);
+  std::int32_t* cell_of = int_scratch(2 * n + field_bytes / sizeof(std::int32_t));
   std::int32_t* order = cell_of + n;
-  const std::span<std::byte> spare(reinterpret_cast<std::byte*>(scratch + n), field_bytes);
+  const std::span<std::byte> spare(reinterpret_cast<std::byte*>(order + n), field_bytes);
   bin<D>(g, ps.x, n, start, cell_of, order);
   for (std::size_t c = 0; c + 1 < start.size(); ++c)
     std::sort(order + start[c], order + start[c + 1],
