@@ -11,6 +11,8 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <optional>
 #include <random>
 
 #include "../src/solver/resin_leapfrog.hpp"
@@ -126,11 +128,37 @@ void drift_and_check_equals_drift_then_check() {
           SphParticles<D> fused = start;
           if (shifted != std::size_t(-1)) fused.x[shifted][0] += 0.03;
           SphParticles<D> apart = fused;
+          SphParticles<D> boxed = fused;
           const bool verdict = kick_drift_resin_and_check<D>(fused, dt, nl);
           kick_drift_resin<D>(apart, dt);
           EXPECT_EQ(verdict, nl.needs_rebuild(apart));
           expect_same_bits(fused, apart);
           (verdict ? moved : still)++;
+          // With the box of all moves (AVX-512 builds fill it): the same
+          // verdict and fields, and the bits of move_box.
+          std::optional<typename NeighborList<D>::MoveBox> box;
+          EXPECT_EQ(kick_drift_resin_and_check<D>(boxed, dt, nl, &box), verdict);
+          expect_same_bits(boxed, apart);
+#if defined(SPHDEM_PARTICLE_LANES)
+          ASSERT_TRUE(box.has_value());
+          const typename NeighborList<D>::MoveBox by_one = nl.move_box(apart);
+          EXPECT_EQ(std::memcmp(box->data(), by_one.data(), sizeof(by_one)), 0);
+          // A position that is not finite: an infinite box in both forms.
+          SphParticles<D> broken = apart;
+          broken.x[n - 1][D - 1] = std::numeric_limits<double>::quiet_NaN();
+          const typename NeighborList<D>::MoveBox nan_box = nl.move_box(broken);
+          SphParticles<D> broken_fused = fused;
+          broken_fused.x[n - 1][D - 1] = std::numeric_limits<double>::quiet_NaN();
+          std::optional<typename NeighborList<D>::MoveBox> nan_fused;
+          kick_drift_resin_and_check<D>(broken_fused, 0.0, nl, &nan_fused);
+          ASSERT_TRUE(nan_fused.has_value());
+          for (std::size_t k = 0; k < nan_box.size(); ++k) {
+            EXPECT_EQ(nan_box[k], std::numeric_limits<double>::infinity());
+            EXPECT_EQ((*nan_fused)[k], std::numeric_limits<double>::infinity());
+          }
+#else
+          EXPECT_FALSE(box.has_value());
+#endif
         }
       }
     }

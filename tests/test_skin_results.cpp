@@ -94,8 +94,11 @@ TEST(SkinResults, FiberComparisonSeesOneBit) {
 // Slow enough that no particle crosses the periodic boundary in 300 steps.
 TEST(SkinResults, ChannelIsTheSameBitsWithAnySkin) {
   // The thin skin rebuilds more often: the runs do differ in their lists.
+  // (0.15 and 0.3 rebuild equally often here: past half the skin, the box
+  // of all moves keeps both runs' lists; docs/performance.md, "Rebuilds on
+  // the particles' relative moves".)
   EXPECT_GT(expect_same_run<2>(channel("0.02"), channel("0.15"), 300), 0);
-  EXPECT_GT(expect_same_run<2>(channel("0.15"), channel("0.3"), 300), 0);
+  EXPECT_GT(expect_same_run<2>(channel("0.02"), channel("0.3"), 300), 0);
 }
 
 // Where particles cross a periodic boundary, the skin moves the last bits:

@@ -194,11 +194,6 @@ void bin_resin_first(const Grid<D>& g, const SphParticles<D>& ps, std::vector<st
     if (ps.kind[i] == Kind::Wall) items[fill[cell_of[i]]++] = static_cast<std::int32_t>(i);
 }
 
-// The bound of a float position's rounding: 2^-23 of its coordinates'
-// magnitudes, and the smallest float per coordinate (needs_rebuild).
-constexpr double kRoundingRelative = 0x1p-23;
-constexpr double kRoundingTiny = std::numeric_limits<float>::denorm_min();
-
 // A position rounded to float; beyond float's range, an infinity (the
 // cast would be undefined), which the rebuild test answers with a rebuild.
 float to_float(double v) {
@@ -451,6 +446,56 @@ bool NeighborList<D>::needs_rebuild(const SphParticles<D>& ps) const {
 #else
   return ps.n_owned > 0 && moved_too_far(ps.x.data()->data(), 0, ps.n_owned);
 #endif
+}
+
+template <int D>
+typename NeighborList<D>::MoveBox NeighborList<D>::move_box(const SphParticles<D>& ps) const {
+  MoveBox box;
+  if (x_at_build_.size() != ps.n_owned) {
+    box.fill(std::numeric_limits<double>::infinity());
+    return box;
+  }
+  // From -inf: a rank without owned particles adds nothing to the maxima.
+  box.fill(-std::numeric_limits<double>::infinity());
+  bool finite = true;
+  for (std::size_t i = 0; i < ps.n_owned; ++i) {
+    // The build's position is within `rounding` of the float kept
+    // (beyond_own_limit), so the true move lies within `rounding` of
+    // `move` along every axis.
+    double size = 0.0, d2 = 0.0;
+    Vec<D> move;
+    for (int k = 0; k < D; ++k) {
+      const double then = static_cast<double>(x_at_build_[i][static_cast<std::size_t>(k)]);
+      move[k] = ps.x[i][k] - then;
+      size += std::abs(then);
+      d2 = lanes::mul_add(move[k], move[k], d2);
+    }
+    const double rounding = lanes::mul_add(size, kRoundingRelative, D * kRoundingTiny);
+    for (int k = 0; k < D; ++k) {
+      box[static_cast<std::size_t>(k)] =
+          std::max(box[static_cast<std::size_t>(k)], move[k] + rounding);
+      box[static_cast<std::size_t>(D + k)] =
+          std::max(box[static_cast<std::size_t>(D + k)], rounding - move[k]);
+    }
+    box[2 * D] = std::max(box[2 * D], d2);
+    box[2 * D + 1] = std::max(box[2 * D + 1], rounding);
+    finite = finite && d2 < std::numeric_limits<double>::infinity();
+  }
+  if (!finite) box.fill(std::numeric_limits<double>::infinity());
+  return box;
+}
+
+template <int D>
+bool NeighborList<D>::box_needs_rebuild(const MoveBox& box) const {
+  double diagonal2 = 0.0;
+  for (int k = 0; k < D; ++k) {
+    const double side = box[static_cast<std::size_t>(k)] + box[static_cast<std::size_t>(D + k)];
+    diagonal2 += side * side;
+  }
+  const double farthest = std::sqrt(box[2 * D]) + box[2 * D + 1];
+  // A relative hair for the rounding of these few operations; a NaN rebuilds.
+  const double margin = 1.0 - 1e-12;
+  return !(diagonal2 <= skin_ * skin_ * margin) || !(farthest <= skin_ * margin);
 }
 
 template <int D>

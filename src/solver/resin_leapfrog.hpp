@@ -10,6 +10,7 @@
 // the compiler's contraction choices.
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "sphdem/neighbor/neighbor.hpp"
@@ -245,9 +246,11 @@ void kick_drift_resin(SphParticles<D>& ps, double dt) {
 // kick_drift_resin, then nl.needs_rebuild(ps): with AVX-512 the check of
 // every owned particle runs on the positions just written, group by group
 // while they are in cache (the same test, NeighborList::moved_too_far), so
-// the step reads the positions once for both.
+// the step reads the positions once for both. With `box` (AVX-512 only;
+// other forms leave it empty), the pass also gives nl.move_box(ps).
 template <int D>
-bool kick_drift_resin_and_check(SphParticles<D>& ps, double dt, const NeighborList<D>& nl) {
+bool kick_drift_resin_and_check(SphParticles<D>& ps, double dt, const NeighborList<D>& nl,
+                                std::optional<typename NeighborList<D>::MoveBox>* box = nullptr) {
 #if defined(SPHDEM_PARTICLE_LANES)
   using namespace leapfrog_detail;
   if (nl.positions_at_build() != ps.n_owned) {  // needs_rebuild's first answer
@@ -256,18 +259,26 @@ bool kick_drift_resin_and_check(SphParticles<D>& ps, double dt, const NeighborLi
   }
   const Arrays<D> p = arrays(ps, dt, false);
   bool moved = false;
+  typename NeighborList<D>::MoveLanes moves;
   std::size_t i = 0;
   for (; i + 8 <= p.n; i += 8) {
     const __mmask8 fluid = lanes::resin(p.kind, i);
     if (fluid != 0)
       kick_drift_group<D>(p, i, fluid,
                           p.frozen != nullptr ? lanes::set(p.frozen, i) & fluid : __mmask8{0});
-    moved = moved || nl.moved_too_far(p.x, i, lanes::first(8));
+    if (box != nullptr)
+      moved = nl.add_moves(p.x, i, lanes::first(8), !moved, moves) || moved;
+    else
+      moved = moved || nl.moved_too_far(p.x, i, lanes::first(8));
   }
   if (i < p.n) {
     for (std::size_t j = i; j < p.n; ++j) kick_drift_one<D>(p, j);
-    moved = moved || nl.moved_too_far(p.x, i, lanes::first(p.n - i));
+    if (box != nullptr)
+      moved = nl.add_moves(p.x, i, lanes::first(p.n - i), !moved, moves) || moved;
+    else
+      moved = moved || nl.moved_too_far(p.x, i, lanes::first(p.n - i));
   }
+  if (box != nullptr) *box = moves.box();
   return moved;
 #elif defined(SPHDEM_PARTICLE_LANES4)
   using namespace leapfrog_detail;

@@ -315,25 +315,60 @@ void ResinModule<D>::predict(double dt) {
   // the positions it writes (docs/performance.md, "The streaming passes").
   // (A wall that does not move adds a zero displacement below: no change.)
   moved_at_drift_.reset();
+  box_at_drift_.reset();
   bool walls_move = false;
   for (const WallMotion& w : walls_) walls_move = walls_move || w.moves;
   if (walls_move)
     kick_drift_resin<D>(ps_, dt);
   else
-    moved_at_drift_ = kick_drift_resin_and_check<D>(ps_, dt, nl_);
+    moved_at_drift_ =
+        kick_drift_resin_and_check<D>(ps_, dt, nl_, case_.fibers ? nullptr : &box_at_drift_);
   if (walls_.empty()) return;
   lanes::for_each_of_kind(ps_.kind.data(), ps_.n_owned, Kind::Wall, [&](std::size_t i) {
     if (ps_.wall[i] >= 0) ps_.x[i] += disp[static_cast<std::size_t>(ps_.wall[i])];
   });
 }
 
+// Rebuild once some particle moved more than half the skin (the verdict
+// of the drift's pass, or needs_rebuild) and, in a run without fibers, the
+// box of all moves says a pair may have come within the support unlisted
+// (NeighborList::move_box, docs/performance.md "Rebuilds on the particles'
+// relative moves"). A coupled run keeps half the skin alone: its coupling's
+// search and its fibers' homes assume the resin moves no farther.
 template <int D>
 bool ResinModule<D>::moved() {
   set_wall_velocities(ctx_.clock.time);
   const bool moved = moved_at_drift_ ? *moved_at_drift_ : nl_.needs_rebuild(ps_);
+  std::optional<typename NeighborList<D>::MoveBox> box = box_at_drift_;
   moved_at_drift_.reset();
-  ScopedPhase t(timers_, Phase::Wait);
-  return comm_.any(moved);
+  box_at_drift_.reset();
+  if (case_.fibers) {
+    ScopedPhase t(timers_, Phase::Wait);
+    return comm_.any(moved);
+  }
+  constexpr std::size_t kBox = 2 * D + 2;
+  if (box) {  // the verdict and the box in one reduction
+    std::array<double, kBox + 1> both;
+    both[0] = moved ? 1.0 : 0.0;
+    std::copy(box->begin(), box->end(), both.begin() + 1);
+    {
+      ScopedPhase t(timers_, Phase::Wait);
+      comm_.max(both);
+    }
+    if (both[0] == 0.0) return false;
+    std::copy(both.begin() + 1, both.end(), box->begin());
+    return nl_.box_needs_rebuild(*box);
+  }
+  {
+    ScopedPhase t(timers_, Phase::Wait);
+    if (!comm_.any(moved)) return false;
+  }
+  box = nl_.move_box(ps_);
+  {
+    ScopedPhase t(timers_, Phase::Wait);
+    comm_.max(*box);
+  }
+  return nl_.box_needs_rebuild(*box);
 }
 
 // The second kick, with the rates at the end of the step.

@@ -82,8 +82,44 @@ class NeighborList {
   // The same for particles i .. i + 3, in 2D four at a time (AVX2).
   bool moved_too_far4(const double* x, std::size_t i) const;
 
-  std::size_t begin(std::size_t i) const { return offset_[i]; }
-  std::size_t end(std::size_t i) const { return offset_[i + 1]; }
+  // The second look, once some particle moved more than half the skin
+  // (docs/performance.md, "Rebuilds on the particles' relative moves"):
+  // a list misses a pair only if the two particles' moves since the build
+  // differ by more than the skin, and two moves that lie in one box differ
+  // by at most its diagonal. MoveBox holds this rank's box of every owned
+  // particle's move, each widened by its position's rounding (axis k spans
+  // [-box[D + k], box[k]]), then the largest squared move and the largest
+  // rounding. Every value is a maximum, so the ranks' boxes reduce with
+  // MPI_MAX to the same box at every rank count. Infinite when the
+  // particles are not those of the build or a move is not finite.
+  using MoveBox = std::array<double, 2 * D + 2>;
+  MoveBox move_box(const SphParticles<D>& ps) const;
+  // From all ranks' reduced box: true when some pair may have come within
+  // the support unlisted (the diagonal beyond the skin), or some particle
+  // moved more than the skin (which keeps every particle within a skin of
+  // its place at the build, the cells its rank owned).
+  bool box_needs_rebuild(const MoveBox& box) const;
+#if defined(SPHDEM_PARTICLE_LANES)
+  // move_box eight particles at a time, for the drift's pass on the
+  // positions it has just written (kick_drift_resin_and_check): add_moves
+  // for every group, then box(), the same MoveBox as move_box. With
+  // `check`, add_moves also answers moved_too_far(x, i, valid) from the
+  // same loads.
+  struct MoveLanes {
+    __m512d hi[D], lo[D], d2, rounding;
+    __mmask8 not_finite = 0;
+    MoveLanes();
+    MoveBox box() const;
+  };
+  bool add_moves(const double* x, std::size_t i, __mmask8 valid, bool check, MoveLanes& m) const;
+#endif
+
+  std::size_t begin(std::size_t i) const {
+    return offset_[i];
+  }
+  std::size_t end(std::size_t i) const {
+    return offset_[i + 1];
+  }
   // Particle i's neighbours, indexed by list position (NeighborRow).
   NeighborRow row(std::size_t i) const {
     const std::size_t b = offset_[i];
@@ -92,20 +128,34 @@ class NeighborList {
       return {narrow_.data(), static_cast<std::int32_t>(i)};
     return {wide_.data(), b - wide_start(i)};
   }
-  std::size_t total_pairs() const { return offset_.empty() ? 0 : offset_.back(); }
+  std::size_t total_pairs() const {
+    return offset_.empty() ? 0 : offset_.back();
+  }
   // How the last build stored its lists: the pairs kept as 32-bit indices
   // (lists with an offset beyond 16 bits; every pair when those were more
   // than a quarter of all, then no 16-bit array is kept).
-  std::size_t wide_pairs() const { return all_wide_ ? total_pairs() : wide_.size(); }
-  bool all_wide() const { return all_wide_; }
-  double cutoff() const { return support_ + skin_; }
-  double skin() const { return skin_; }
-  std::int64_t builds() const { return builds_; }
+  std::size_t wide_pairs() const {
+    return all_wide_ ? total_pairs() : wide_.size();
+  }
+  bool all_wide() const {
+    return all_wide_;
+  }
+  double cutoff() const {
+    return support_ + skin_;
+  }
+  double skin() const {
+    return skin_;
+  }
+  std::int64_t builds() const {
+    return builds_;
+  }
   // The owned particles whose list holds a ghost (an index >= n_owned), in
   // index order: the lists that name a ghost, found once per build (the
   // free-surface flag's second run walks only these for flagged ghosts,
   // src/sph/fluid_rates.cpp).
-  const std::vector<std::uint32_t>& ghost_listers() const { return ghost_listers_; }
+  const std::vector<std::uint32_t>& ghost_listers() const {
+    return ghost_listers_;
+  }
   // Owned particle i's position at the last build, rounded to float (what
   // needs_rebuild compares with; 8 bytes a particle in 2D, not 16): part of
   // a checkpoint, so a restart rebuilds there and its rebuilds fall on the
@@ -115,10 +165,16 @@ class NeighborList {
     for (int k = 0; k < D; ++k) x[k] = static_cast<double>(x_at_build_[i][k]);
     return x;
   }
-  std::size_t positions_at_build() const { return x_at_build_.size(); }
+  std::size_t positions_at_build() const {
+    return x_at_build_.size();
+  }
 
  private:
   double support_, skin_;
+  // The bound of a float position's rounding: 2^-23 of its coordinates'
+  // magnitudes, and the smallest float per coordinate (needs_rebuild).
+  static constexpr double kRoundingRelative = 0x1p-23;
+  static constexpr double kRoundingTiny = std::numeric_limits<float>::denorm_min();
   // A 16-bit list that starts with kWideRow is kept in wide_ instead
   // (wide_rows_ and wide_starts_ say where); offsets are within +-32767.
   static constexpr std::int16_t kWideRow = std::numeric_limits<std::int16_t>::min();
@@ -158,6 +214,77 @@ inline bool NeighborList<D>::moved_too_far(const double* x, std::size_t i,
     const __m512d d = _mm512_sub_pd(lanes::component<D>(now, k), lanes::component<D>(then, k));
     d2 = k == 0 ? lanes::mul(d, d) : _mm512_fmadd_pd(d, d, d2);
   }
+  __mmask8 far = _mm512_mask_cmp_pd_mask(valid, d2, _mm512_set1_pd(quick_limit2_), _CMP_NLE_UQ);
+  if (far == 0) return false;
+  alignas(64) double each[8];
+  _mm512_store_pd(each, d2);
+  for (; far != 0; far &= static_cast<__mmask8>(far - 1)) {
+    const int l = __builtin_ctz(far);
+    if (beyond_own_limit(i + static_cast<std::size_t>(l), each[l])) return true;
+  }
+  return false;
+}
+#endif
+
+#if defined(SPHDEM_PARTICLE_LANES)
+template <int D>
+inline NeighborList<D>::MoveLanes::MoveLanes() {
+  const __m512d none = _mm512_set1_pd(-std::numeric_limits<double>::infinity());
+  for (int k = 0; k < D; ++k) hi[k] = lo[k] = none;
+  d2 = rounding = none;
+}
+
+template <int D>
+inline typename NeighborList<D>::MoveBox NeighborList<D>::MoveLanes::box() const {
+  MoveBox b;
+  if (not_finite != 0) {
+    b.fill(std::numeric_limits<double>::infinity());
+    return b;
+  }
+  for (int k = 0; k < D; ++k) {
+    b[static_cast<std::size_t>(k)] = lanes::largest(hi[k]);
+    b[static_cast<std::size_t>(D + k)] = lanes::largest(lo[k]);
+  }
+  b[2 * D] = lanes::largest(d2);
+  b[2 * D + 1] = lanes::largest(rounding);
+  return b;
+}
+
+// The one-particle form's operations (move_box), lane by lane.
+// Inline always: the drift's loop keeps the box in registers.
+template <int D>
+__attribute__((always_inline)) inline bool NeighborList<D>::add_moves(const double* x,
+                                                                      std::size_t i, __mmask8 valid,
+                                                                      bool check,
+                                                                      MoveLanes& m) const {
+  __m512d now[D], then[D];
+  for (int q = 0; q < D; ++q) {  // lanes::load_vectors, inline
+    const __mmask8 v = lanes::vector_mask<D>(valid, q);
+    now[q] = _mm512_maskz_loadu_pd(v, x + D * i + 8 * q);
+    then[q] = _mm512_maskz_cvtps_pd(
+        v, _mm256_maskz_loadu_ps(v, x_at_build_.data()->data() + D * i + 8 * q));
+  }
+  __m512d move[D], size = _mm512_setzero_pd(), d2 = _mm512_setzero_pd();
+  for (int k = 0; k < D; ++k) {
+    const __m512d t = lanes::component<D>(then, k);
+    move[k] = _mm512_sub_pd(lanes::component<D>(now, k), t);
+    size = k == 0 ? _mm512_abs_pd(t) : _mm512_add_pd(size, _mm512_abs_pd(t));
+    d2 = k == 0 ? lanes::mul(move[k], move[k]) : _mm512_fmadd_pd(move[k], move[k], d2);
+  }
+  const __m512d rounding =
+      _mm512_fmadd_pd(size, _mm512_set1_pd(kRoundingRelative), _mm512_set1_pd(D * kRoundingTiny));
+  for (int k = 0; k < D; ++k) {
+    m.hi[k] = _mm512_mask_max_pd(m.hi[k], valid, m.hi[k], _mm512_add_pd(move[k], rounding));
+    m.lo[k] = _mm512_mask_max_pd(m.lo[k], valid, m.lo[k], _mm512_sub_pd(rounding, move[k]));
+  }
+  m.d2 = _mm512_mask_max_pd(m.d2, valid, m.d2, d2);
+  m.rounding = _mm512_mask_max_pd(m.rounding, valid, m.rounding, rounding);
+  m.not_finite = static_cast<__mmask8>(
+      m.not_finite |
+      _mm512_mask_cmp_pd_mask(valid, d2, _mm512_set1_pd(std::numeric_limits<double>::infinity()),
+                              _CMP_NLT_UQ));
+  if (!check) return false;
+  // moved_too_far's test on the same d2.
   __mmask8 far = _mm512_mask_cmp_pd_mask(valid, d2, _mm512_set1_pd(quick_limit2_), _CMP_NLE_UQ);
   if (far == 0) return false;
   alignas(64) double each[8];

@@ -22,6 +22,7 @@ class Comm {
   std::int64_t sum(std::int64_t v) const;
   void sum(std::span<double> v) const;  // element-wise, in place: one allreduce
   void sum(std::span<std::int64_t> v) const;
+  void max(std::span<double> v) const;  // element-wise, in place: one allreduce
   // Element-wise, in place, in one allreduce: `sums` summed, `maxes` the
   // largest (a minimum travels as the largest negation, exact).
   void sum_max(std::span<double> sums, std::span<double> maxes) const;

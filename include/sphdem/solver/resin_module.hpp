@@ -117,6 +117,8 @@ class ResinModule final : public Module<D> {
   // the second kick's maxima for the next stable_dt, with the owned count
   // they cover. Empty: moved() and stable_dt() run their own pass.
   std::optional<bool> moved_at_drift_;
+  // With it (AVX-512, a run without fibers), the drift's box of all moves.
+  std::optional<typename NeighborList<D>::MoveBox> box_at_drift_;
   struct KickExtremes {
     LocalExtremes maxima;
     std::size_t n_owned;
