@@ -47,12 +47,18 @@ SphParticles<2> two(double xa, double xb) {
   return ps;
 }
 
+// The pair, and a particle near the origin, far from both: its rounding
+// bound is tiny, so a quick limit taken from it instead of the largest
+// would fail.
+SphParticles<2> pair_and_one_near_origin(const Pair& p) {
+  SphParticles<2> ps = two(p.xa, p.xb);
+  ps.push_owned(2, Kind::Fluid, -1, 1.0, Vec<2>(0.0, 5.0), Vec<2>::Zero(), 1000.0);
+  return ps;
+}
+
 TEST(NeighborSkin, NoPairEntersTheSupportUnlisted) {
   const Pair p = pair_beyond_cutoff();
-  SphParticles<2> ps = two(p.xa, p.xb);
-  // A particle near the origin, far from both: its rounding bound is tiny,
-  // so a quick limit taken from it instead of the largest would fail.
-  ps.push_owned(2, Kind::Fluid, -1, 1.0, Vec<2>(0.0, 5.0), Vec<2>::Zero(), 1000.0);
+  SphParticles<2> ps = pair_and_one_near_origin(p);
   NeighborList<2> nl(p.support, kSkin);
   nl.build(ps);
   ASSERT_EQ(nl.total_pairs(), 0u);  // beyond the cut-off
@@ -168,8 +174,7 @@ TEST(NeighborSkin, BoxOfMovesDecidesPastHalfTheSkin) {
 // box without the rounding (move_box's `rounding` dropped) fails this.
 TEST(NeighborSkin, NoPairEntersTheSupportUnlistedWithTheBox) {
   const Pair p = pair_beyond_cutoff();
-  SphParticles<2> ps = two(p.xa, p.xb);
-  ps.push_owned(2, Kind::Fluid, -1, 1.0, Vec<2>(0.0, 5.0), Vec<2>::Zero(), 1000.0);
+  SphParticles<2> ps = pair_and_one_near_origin(p);
   NeighborList<2> nl(p.support, kSkin);
   nl.build(ps);
   ASSERT_EQ(nl.total_pairs(), 0u);

@@ -195,6 +195,10 @@ class NeighborList {
   std::int64_t builds_ = 0;
   // Particle i's own test, for a squared move d2 beyond the quick limit.
   bool beyond_own_limit(std::size_t i, double d2) const;
+#if defined(SPHDEM_PARTICLE_LANES)
+  // The same for the lanes of `valid` of particles i .. i + 7 (moved_too_far, add_moves).
+  bool beyond_limits(std::size_t i, __m512d d2, __mmask8 valid) const;
+#endif
   // The cell grid's starts, kept to avoid reallocations (the binning's
   // per-particle scratch is shared with sort_by_cell: neighbor_list.cpp).
   std::vector<std::int32_t> cell_start_;
@@ -202,6 +206,22 @@ class NeighborList {
 };
 
 #if defined(SPHDEM_PARTICLE_LANES)
+// Eight particles' squared moves against the quick limit; the few beyond it
+// one at a time against their own.
+template <int D>
+__attribute__((always_inline)) inline bool NeighborList<D>::beyond_limits(std::size_t i, __m512d d2,
+                                                                          __mmask8 valid) const {
+  __mmask8 far = _mm512_mask_cmp_pd_mask(valid, d2, _mm512_set1_pd(quick_limit2_), _CMP_NLE_UQ);
+  if (far == 0) return false;
+  alignas(64) double each[8];
+  _mm512_store_pd(each, d2);
+  for (; far != 0; far &= static_cast<__mmask8>(far - 1)) {
+    const int l = __builtin_ctz(far);
+    if (beyond_own_limit(i + static_cast<std::size_t>(l), each[l])) return true;
+  }
+  return false;
+}
+
 // Eight particles at a time for the quick limit; the few beyond it one at a time.
 template <int D>
 inline bool NeighborList<D>::moved_too_far(const double* x, std::size_t i,
@@ -214,15 +234,7 @@ inline bool NeighborList<D>::moved_too_far(const double* x, std::size_t i,
     const __m512d d = _mm512_sub_pd(lanes::component<D>(now, k), lanes::component<D>(then, k));
     d2 = k == 0 ? lanes::mul(d, d) : _mm512_fmadd_pd(d, d, d2);
   }
-  __mmask8 far = _mm512_mask_cmp_pd_mask(valid, d2, _mm512_set1_pd(quick_limit2_), _CMP_NLE_UQ);
-  if (far == 0) return false;
-  alignas(64) double each[8];
-  _mm512_store_pd(each, d2);
-  for (; far != 0; far &= static_cast<__mmask8>(far - 1)) {
-    const int l = __builtin_ctz(far);
-    if (beyond_own_limit(i + static_cast<std::size_t>(l), each[l])) return true;
-  }
-  return false;
+  return beyond_limits(i, d2, valid);
 }
 #endif
 
@@ -283,17 +295,7 @@ __attribute__((always_inline)) inline bool NeighborList<D>::add_moves(const doub
       m.not_finite |
       _mm512_mask_cmp_pd_mask(valid, d2, _mm512_set1_pd(std::numeric_limits<double>::infinity()),
                               _CMP_NLT_UQ));
-  if (!check) return false;
-  // moved_too_far's test on the same d2.
-  __mmask8 far = _mm512_mask_cmp_pd_mask(valid, d2, _mm512_set1_pd(quick_limit2_), _CMP_NLE_UQ);
-  if (far == 0) return false;
-  alignas(64) double each[8];
-  _mm512_store_pd(each, d2);
-  for (; far != 0; far &= static_cast<__mmask8>(far - 1)) {
-    const int l = __builtin_ctz(far);
-    if (beyond_own_limit(i + static_cast<std::size_t>(l), each[l])) return true;
-  }
-  return false;
+  return check && beyond_limits(i, d2, valid);  // moved_too_far's test on the same d2
 }
 #endif
 
