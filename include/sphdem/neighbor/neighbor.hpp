@@ -99,6 +99,41 @@ class NeighborList {
   // moved more than the skin (which keeps every particle within a skin of
   // its place at the build, the cells its rank owned).
   bool box_needs_rebuild(const MoveBox& box) const;
+
+  std::size_t begin(std::size_t i) const { return offset_[i]; }
+  std::size_t end(std::size_t i) const { return offset_[i + 1]; }
+  // Particle i's neighbours, indexed by list position (NeighborRow).
+  NeighborRow row(std::size_t i) const {
+    const std::size_t b = offset_[i];
+    if (all_wide_) return {wide_.data(), std::size_t{0}};
+    if (b == offset_[i + 1] || narrow_[b] != kWideRow)
+      return {narrow_.data(), static_cast<std::int32_t>(i)};
+    return {wide_.data(), b - wide_start(i)};
+  }
+  std::size_t total_pairs() const { return offset_.empty() ? 0 : offset_.back(); }
+  // How the last build stored its lists: the pairs kept as 32-bit indices
+  // (lists with an offset beyond 16 bits; every pair when those were more
+  // than a quarter of all, then no 16-bit array is kept).
+  std::size_t wide_pairs() const { return all_wide_ ? total_pairs() : wide_.size(); }
+  bool all_wide() const { return all_wide_; }
+  double cutoff() const { return support_ + skin_; }
+  double skin() const { return skin_; }
+  std::int64_t builds() const { return builds_; }
+  // The owned particles whose list holds a ghost (an index >= n_owned), in
+  // index order: the lists that name a ghost, found once per build (the
+  // free-surface flag's second run walks only these for flagged ghosts,
+  // src/sph/fluid_rates.cpp).
+  const std::vector<std::uint32_t>& ghost_listers() const { return ghost_listers_; }
+  // Owned particle i's position at the last build, rounded to float (what
+  // needs_rebuild compares with; 8 bytes a particle in 2D, not 16): part of
+  // a checkpoint, so a restart rebuilds there and its rebuilds fall on the
+  // run's steps.
+  Vec<D> position_at_build(std::size_t i) const {
+    Vec<D> x;
+    for (int k = 0; k < D; ++k) x[k] = static_cast<double>(x_at_build_[i][k]);
+    return x;
+  }
+  std::size_t positions_at_build() const { return x_at_build_.size(); }
 #if defined(SPHDEM_PARTICLE_LANES)
   // move_box eight particles at a time, for the drift's pass on the
   // positions it has just written (kick_drift_resin_and_check): add_moves
@@ -113,61 +148,6 @@ class NeighborList {
   };
   bool add_moves(const double* x, std::size_t i, __mmask8 valid, bool check, MoveLanes& m) const;
 #endif
-
-  std::size_t begin(std::size_t i) const {
-    return offset_[i];
-  }
-  std::size_t end(std::size_t i) const {
-    return offset_[i + 1];
-  }
-  // Particle i's neighbours, indexed by list position (NeighborRow).
-  NeighborRow row(std::size_t i) const {
-    const std::size_t b = offset_[i];
-    if (all_wide_) return {wide_.data(), std::size_t{0}};
-    if (b == offset_[i + 1] || narrow_[b] != kWideRow)
-      return {narrow_.data(), static_cast<std::int32_t>(i)};
-    return {wide_.data(), b - wide_start(i)};
-  }
-  std::size_t total_pairs() const {
-    return offset_.empty() ? 0 : offset_.back();
-  }
-  // How the last build stored its lists: the pairs kept as 32-bit indices
-  // (lists with an offset beyond 16 bits; every pair when those were more
-  // than a quarter of all, then no 16-bit array is kept).
-  std::size_t wide_pairs() const {
-    return all_wide_ ? total_pairs() : wide_.size();
-  }
-  bool all_wide() const {
-    return all_wide_;
-  }
-  double cutoff() const {
-    return support_ + skin_;
-  }
-  double skin() const {
-    return skin_;
-  }
-  std::int64_t builds() const {
-    return builds_;
-  }
-  // The owned particles whose list holds a ghost (an index >= n_owned), in
-  // index order: the lists that name a ghost, found once per build (the
-  // free-surface flag's second run walks only these for flagged ghosts,
-  // src/sph/fluid_rates.cpp).
-  const std::vector<std::uint32_t>& ghost_listers() const {
-    return ghost_listers_;
-  }
-  // Owned particle i's position at the last build, rounded to float (what
-  // needs_rebuild compares with; 8 bytes a particle in 2D, not 16): part of
-  // a checkpoint, so a restart rebuilds there and its rebuilds fall on the
-  // run's steps.
-  Vec<D> position_at_build(std::size_t i) const {
-    Vec<D> x;
-    for (int k = 0; k < D; ++k) x[k] = static_cast<double>(x_at_build_[i][k]);
-    return x;
-  }
-  std::size_t positions_at_build() const {
-    return x_at_build_.size();
-  }
 
  private:
   double support_, skin_;
