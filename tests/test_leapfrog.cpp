@@ -171,6 +171,14 @@ void drift_and_check_equals_drift_then_check() {
   nl.build(other);
   other.push_owned(9, Kind::Fluid, -1, 1.0, Vec<D>::Zero(), Vec<D>::Zero(), 1000.0);
   EXPECT_TRUE(kick_drift_resin_and_check<D>(other, 1e-9, nl));
+  // With the box asked for: an infinite one (AVX-512 builds), so a rank
+  // whose count changed joins the same reduction as the others.
+  std::optional<typename NeighborList<D>::MoveBox> box;
+  EXPECT_TRUE(kick_drift_resin_and_check<D>(other, 1e-9, nl, &box));
+#if defined(SPHDEM_PARTICLE_LANES)
+  ASSERT_TRUE(box.has_value());
+  for (const double v : *box) EXPECT_EQ(v, std::numeric_limits<double>::infinity());
+#endif
 }
 
 TEST(Leapfrog, DriftWithTheRebuildCheckGivesNeedsRebuildsVerdict2D) {

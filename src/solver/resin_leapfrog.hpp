@@ -255,6 +255,9 @@ bool kick_drift_resin_and_check(SphParticles<D>& ps, double dt, const NeighborLi
   using namespace leapfrog_detail;
   if (nl.positions_at_build() != ps.n_owned) {  // needs_rebuild's first answer
     kick_drift_resin<D>(ps, dt);
+    // An infinite box: every rank that asked gets one, so every rank joins
+    // the same reduction in ResinModule::moved.
+    if (box != nullptr) *box = nl.move_box(ps);
     return true;
   }
   const Arrays<D> p = arrays(ps, dt, false);
