@@ -119,6 +119,10 @@ int main(int argc, char** argv) {
         // Load balance (parallel.balance_weight, docs/parallel.md).
         std::printf("balance: %lld re-partitions, imbalance %.1f %% at the last check\n",
                     static_cast<long long>(sim.repartitions()), 100.0 * sim.last_imbalance());
+        // A coupled case's fibers (docs/parallel.md, "The coupled run's skins").
+        if (sim.dem())
+          std::printf("fibers: %lld list builds, skin %.3g m\n",
+                      static_cast<long long>(sim.dem()->rebuilds()), sim.dem()->list_skin());
       }
     }
   }

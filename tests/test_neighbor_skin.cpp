@@ -13,6 +13,7 @@
 
 #include "sphdem/neighbor/neighbor.hpp"
 #include "sphdem/particles/particles.hpp"
+#include "sphdem/solver/coupled_skins.hpp"
 
 namespace sphdem {
 namespace {
@@ -133,6 +134,12 @@ TEST(NeighborSkin, BoxOfMovesDecidesPastHalfTheSkin) {
   for (int i = 0; i < 3; ++i) move(i, 0.7 * s, 0.0);
   EXPECT_TRUE(nl.needs_rebuild(ps));
   EXPECT_FALSE(nl.box_needs_rebuild(nl.move_box(ps)));
+  // A coupled run's cap (coupled_skins.hpp: 0.75 of the skin): 0.7 is
+  // under it, 0.8 together is not, though no pair came closer.
+  EXPECT_FALSE(nl.box_needs_rebuild(nl.move_box(ps), kCoupledResinMoveShare));
+  for (int i = 0; i < 3; ++i) move(i, 0.8 * s, 0.0);
+  EXPECT_FALSE(nl.box_needs_rebuild(nl.move_box(ps)));
+  EXPECT_TRUE(nl.box_needs_rebuild(nl.move_box(ps), kCoupledResinMoveShare));
   for (int i = 0; i < 3; ++i) move(i, 0.0, -1.01 * s);
   EXPECT_TRUE(box_verdict(nl, ps));
   // One by 0.6, one by 0.2 the same way, one still: they differ by 0.6.

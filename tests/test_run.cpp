@@ -12,6 +12,7 @@
 #include "sphdem/core/errors.hpp"
 #include "sphdem/io/checkpoint.hpp"
 #include "sphdem/parallel/comm.hpp"
+#include "sphdem/solver/coupled_skins.hpp"
 #include "sphdem/solver/dem_run.hpp"
 #include "sphdem/solver/output_cadence.hpp"
 #include "sphdem/solver/solver.hpp"
@@ -53,6 +54,25 @@ TEST(RunDriver, TheCaseChoosesTheModules) {
   EXPECT_EQ(dem_run.module_names(), Names({"fibers"}));
   const Simulation<2> sim(input("validation/coupled_box.yaml"), comm, quiet());
   EXPECT_EQ(sim.module_names(), Names({"resin", "fibers", "coupling"}));
+}
+
+// The coupling's partners are owned or ghosts on every rank
+// (coupled_skins.hpp): a fiber strays at most half the fibers' skin from
+// its rank's cells, a resin particle at most kCoupledResinMoveShare of the
+// resin's skin from its place at the build, and the two together stay
+// within the resin's skin, which the ghosts cover beyond the support. This
+// case's fibers alone would take a skin of their radius, 0.125 mm, more
+// than the resin's 0.108 mm: half of each, 0.1165 mm, would have been
+// beyond the ghosts' reach even with the resin's half-skin rule.
+TEST(RunDriver, CoupledSkinsKeepTheCouplingsPartnersInTheHalo) {
+  const Comm comm;
+  const sphdem::Run<2> coupled(input("validation/coupled_box.yaml"), comm, quiet());
+  const double resin_skin = coupled.resin()->neighbor_skin();
+  const double fiber_skin = coupled.fibers()->dem().list_skin();
+  EXPECT_GT(0.5 * 2.5e-4, resin_skin);
+  EXPECT_EQ(fiber_skin, kFiberSkinShare * resin_skin);
+  EXPECT_LE(kCoupledResinMoveShare * resin_skin + 0.5 * fiber_skin, resin_skin);
+  EXPECT_GE(coupled.fibers()->dem().halo_range(), coupled.resin()->neighbor_cutoff());
 }
 
 TEST(RunDriver, WrappersRefuseTheOtherKindOfCase) {

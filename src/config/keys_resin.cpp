@@ -326,7 +326,9 @@ Section<Numerics> make_numerics() {
                   "see `docs/physics.md`")
               .identity()),
       number("neighbor_skin", "", in_range(0, 1, kClosed, kOpen), &N::neighbor_skin,
-             "Verlet skin as a fraction of the support 2h")
+             "Verlet skin as a fraction of the support 2h; a coupled run's fibers take "
+             "a pair-list skin of at most half of it (`docs/parallel.md`, \"The coupled "
+             "run's skins\")")
           .identity(),
       boolean("lattice_correction", &N::lattice_correction,
               "scale the kernel gradient (by 1/0.964 in 2D at h/dp = 1.2) and the viscous "

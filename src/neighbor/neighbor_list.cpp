@@ -486,7 +486,7 @@ typename NeighborList<D>::MoveBox NeighborList<D>::move_box(const SphParticles<D
 }
 
 template <int D>
-bool NeighborList<D>::box_needs_rebuild(const MoveBox& box) const {
+bool NeighborList<D>::box_needs_rebuild(const MoveBox& box, double max_move) const {
   double diagonal2 = 0.0;
   for (int k = 0; k < D; ++k) {
     const double side = box[static_cast<std::size_t>(k)] + box[static_cast<std::size_t>(D + k)];
@@ -495,7 +495,7 @@ bool NeighborList<D>::box_needs_rebuild(const MoveBox& box) const {
   const double farthest = std::sqrt(box[2 * D]) + box[2 * D + 1];
   // A relative hair for the rounding of these few operations; a NaN rebuilds.
   const double margin = 1.0 - 1e-12;
-  return !(diagonal2 <= skin_ * skin_ * margin) || !(farthest <= skin_ * margin);
+  return !(diagonal2 <= skin_ * skin_ * margin) || !(farthest <= max_move * skin_ * margin);
 }
 
 template <int D>

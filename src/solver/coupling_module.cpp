@@ -25,9 +25,12 @@ CouplingModule<D>::CouplingModule(const RunContext<D>& ctx, ResinModule<D>& resi
   coupling_.void_fraction_in_continuity = c.fibers->void_fraction_in_continuity;
   coupling_.hydrodynamic_torque = c.fibers->hydrodynamic_torque;
   coupling_.exponential_drag = c.fibers->exponential_drag;
-  // The pairs live between passes with the resin's Verlet skin: the resin
-  // moves less than half of it between its rebuilds, which rebuild the
-  // fibers' lists too (a new DemDomain::rebuilds(), hence a new search).
+  // The pairs live between passes with the resin's Verlet skin: a new
+  // search at every rebuild of the fibers' lists (a new
+  // DemDomain::rebuilds(); every resin rebuild is one), or once a fiber and
+  // a resin particle may have moved the skin towards each other
+  // (update_coupling_pairs). Their partners are owned or ghosts by
+  // coupled_skins.hpp's rule.
   cstate_.keep_pairs = true;
   cstate_.skin = c.numerics.neighbor_skin * WendlandC2<D>(coupling_.h).support();
 }

@@ -15,7 +15,7 @@ namespace sphdem {
 template <int D>
 DemDomain<D>::DemDomain(const Decomposition<D>& dec, const DemParams<D>& params,
                         std::vector<DemWall<D>> walls, DemParticles<D> particles, double halo_range,
-                        Input input)
+                        Input input, double skin_limit)
     : dec_(dec), params_(params), walls_(std::move(walls)), ps_(std::move(particles)) {
   const Comm& comm = dec_.comm();
   double r_max = 0, r_min = std::numeric_limits<double>::infinity();
@@ -34,12 +34,16 @@ DemDomain<D>::DemDomain(const Decomposition<D>& dec, const DemParams<D>& params,
   // migration, a ghost build and a pair-list build) for a few more
   // candidate pairs. The grid is the same on every rank, so is the skin;
   // the results do not depend on it (the list is complete either way).
+  // A coupled run caps it (skin_limit): how far a fiber strays from its
+  // rank's cells bounds what the coupling's ghosts must cover
+  // (coupled_skins.hpp).
   double s = skin(r_min);
   if (n_global_ > 0) {
     double cell = std::numeric_limits<double>::infinity();
     for (int k = 0; k < D; ++k) cell = std::min(cell, dec_.grid().size(k));
     s = std::max(s, std::min(cell - 2.0 * r_max, params_.max_skin * r_min));
   }
+  s = std::min(s, skin_limit);
   ws_.skin = n_global_ > 0 ? s : 0;
   range_ = std::max(halo_range, n_global_ > 0 ? 2.0 * r_max + s : 0.0);
   // Implicit bonds solve each fiber whole: every rank that owns a particle

@@ -197,7 +197,7 @@ FiberModule<D>::FiberModule(const RunContext<D>& ctx, const FiberHost<D>* host) 
   if (host_) {
     dem_ = std::make_unique<DemDomain<D>>(host_->dec, mine.params, mine.walls,
                                           std::move(mine.particles), host_->halo_range,
-                                          DemDomain<D>::Input::Share);
+                                          DemDomain<D>::Input::Share, host_->skin_limit);
     return;
   }
   dem_ = std::make_unique<DemDomain<D>>(*own_dec_, mine.params, mine.walls,

@@ -23,6 +23,7 @@
 #include "sphdem/io/checkpoint.hpp"
 #include "sphdem/io/io.hpp"
 #include "sphdem/parallel/agreement.hpp"
+#include "sphdem/solver/coupled_skins.hpp"
 #include "sphdem/solver/coupling_module.hpp"
 #include "sphdem/solver/fiber_module.hpp"
 #include "sphdem/solver/output_cadence.hpp"
@@ -78,8 +79,9 @@ Run<D>::Run(const Case& c, const Comm& comm, RunOptions opt)
   if (c.fibers) {
     std::optional<FiberHost<D>> host;
     if (resin_)
-      host.emplace(
-          FiberHost<D>{resin_->decomposition(), resin_->domain(), resin_->neighbor_cutoff()});
+      host.emplace(FiberHost<D>{resin_->decomposition(), resin_->domain(),
+                                resin_->neighbor_cutoff(),
+                                kFiberSkinShare * resin_->neighbor_skin()});
     auto fibers = std::make_unique<FiberModule<D>>(ctx_, host ? &*host : nullptr);
     fibers_ = fibers.get();
     modules_.push_back(std::move(fibers));

@@ -19,6 +19,7 @@
 #include "sphdem/geometry/geometry.hpp"
 #include "sphdem/parallel/exact_sum.hpp"
 #include "sphdem/parallel/ordered_sum.hpp"
+#include "sphdem/solver/coupled_skins.hpp"
 #include "sphdem/solver/fiber_module.hpp"
 #include "sphdem/solver/resin_cells.hpp"
 #include "sphdem/solver/resin_module.hpp"
@@ -321,8 +322,7 @@ void ResinModule<D>::predict(double dt) {
   if (walls_move)
     kick_drift_resin<D>(ps_, dt);
   else
-    moved_at_drift_ =
-        kick_drift_resin_and_check<D>(ps_, dt, nl_, case_.fibers ? nullptr : &box_at_drift_);
+    moved_at_drift_ = kick_drift_resin_and_check<D>(ps_, dt, nl_, &box_at_drift_);
   if (walls_.empty()) return;
   lanes::for_each_of_kind(ps_.kind.data(), ps_.n_owned, Kind::Wall, [&](std::size_t i) {
     if (ps_.wall[i] >= 0) ps_.x[i] += disp[static_cast<std::size_t>(ps_.wall[i])];
@@ -330,11 +330,12 @@ void ResinModule<D>::predict(double dt) {
 }
 
 // Rebuild once some particle moved more than half the skin (the verdict
-// of the drift's pass, or needs_rebuild) and, in a run without fibers, the
-// box of all moves says a pair may have come within the support unlisted
-// (NeighborList::move_box, docs/performance.md "Rebuilds on the particles'
-// relative moves"). A coupled run keeps half the skin alone: its coupling's
-// search and its fibers' homes assume the resin moves no farther.
+// of the drift's pass, or needs_rebuild) and the box of all moves says a
+// pair may have come within the support unlisted (NeighborList::move_box,
+// docs/performance.md "Rebuilds on the particles' relative moves"), or some
+// particle moved the farthest a run allows: its skin, or in a coupled run
+// kCoupledResinMoveShare of it, for the coupling's ghosts
+// (coupled_skins.hpp).
 template <int D>
 bool ResinModule<D>::moved() {
   set_wall_velocities(ctx_.clock.time);
@@ -342,10 +343,7 @@ bool ResinModule<D>::moved() {
   std::optional<typename NeighborList<D>::MoveBox> box = box_at_drift_;
   moved_at_drift_.reset();
   box_at_drift_.reset();
-  if (case_.fibers) {
-    ScopedPhase t(timers_, Phase::Wait);
-    return comm_.any(moved);
-  }
+  const double max_move = case_.fibers ? kCoupledResinMoveShare : 1.0;
   constexpr std::size_t kBox = 2 * D + 2;
   if (box) {  // the verdict and the box in one reduction
     std::array<double, kBox + 1> both;
@@ -357,7 +355,7 @@ bool ResinModule<D>::moved() {
     }
     if (both[0] == 0.0) return false;
     std::copy(both.begin() + 1, both.end(), box->begin());
-    return nl_.box_needs_rebuild(*box);
+    return nl_.box_needs_rebuild(*box, max_move);
   }
   {
     ScopedPhase t(timers_, Phase::Wait);
@@ -368,7 +366,7 @@ bool ResinModule<D>::moved() {
     ScopedPhase t(timers_, Phase::Wait);
     comm_.max(*box);
   }
-  return nl_.box_needs_rebuild(*box);
+  return nl_.box_needs_rebuild(*box, max_move);
 }
 
 // The second kick, with the rates at the end of the step.

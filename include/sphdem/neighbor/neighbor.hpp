@@ -96,9 +96,11 @@ class NeighborList {
   MoveBox move_box(const SphParticles<D>& ps) const;
   // From all ranks' reduced box: true when some pair may have come within
   // the support unlisted (the diagonal beyond the skin), or some particle
-  // moved more than the skin (which keeps every particle within a skin of
-  // its place at the build, the cells its rank owned).
-  bool box_needs_rebuild(const MoveBox& box) const;
+  // moved more than max_move skins (at most 1, which keeps every particle
+  // within a skin of its place at the build, the cells its rank owned; a
+  // coupled run allows less, coupled_skins.hpp; at least the first look's
+  // half).
+  bool box_needs_rebuild(const MoveBox& box, double max_move = 1.0) const;
 
   std::size_t begin(std::size_t i) const { return offset_[i]; }
   std::size_t end(std::size_t i) const { return offset_[i + 1]; }

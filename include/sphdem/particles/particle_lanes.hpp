@@ -108,21 +108,59 @@ void load_vectors(const float* p, std::size_t i, __mmask8 valid, __m512d (&r)[D]
 }
 
 // Component d of the eight vectors held as load_vectors gives them: lane l
-// is particle l's component d (a permutation: no arithmetic).
+// is particle l's component d (a permutation: no arithmetic). Its index
+// tables are constants and it is always inlined: out of line, in 3D, it
+// built them at every call (4 % of the 3D plate's step, docs/performance.md
+// "Where a 3D coupled step goes").
+namespace component_detail {
+// Lane l of component d is double D l + d of the 8 D: from the first two
+// registers (indices 0-15 of permutex2var) or from the third (D == 3).
 template <int D>
-__m512d component(const __m512d (&r)[D], int d) {
-  static_assert(D == 2 || D == 3);
-  alignas(64) long long low[8], high[8];
-  __mmask8 from_third = 0;
-  for (int l = 0; l < 8; ++l) {
-    const int at = D * l + d;  // its place among the 8 D doubles
-    low[l] = at < 16 ? at : 0;
-    high[l] = at < 16 ? 0 : at - 16;
-    if (at >= 16) from_third = static_cast<__mmask8>(from_third | (1u << l));
+struct Tables {
+  alignas(64) long long low[D][8];
+  alignas(64) long long high[D][8];
+  __mmask8 from_third[D];
+  // store_vectors: register q of the stored doubles takes lane l of
+  // component 0 or 1 (from_two) or of component 2 (from_last, D == 3).
+  alignas(64) long long from_two[D][8];
+  alignas(64) long long from_last[D][8];
+  __mmask8 last[D];
+};
+template <int D>
+constexpr Tables<D> make_tables() {
+  Tables<D> t{};
+  for (int d = 0; d < D; ++d) {
+    t.from_third[d] = 0;
+    for (int l = 0; l < 8; ++l) {
+      const int at = D * l + d;
+      t.low[d][l] = at < 16 ? at : 0;
+      t.high[d][l] = at < 16 ? 0 : at - 16;
+      if (at >= 16) t.from_third[d] = static_cast<__mmask8>(t.from_third[d] | (1u << l));
+    }
   }
-  __m512d c = _mm512_permutex2var_pd(r[0], _mm512_load_si512(low), r[1]);
+  for (int q = 0; q < D; ++q) {
+    t.last[q] = 0;
+    for (int k = 0; k < 8; ++k) {
+      const int at = 8 * q + k;  // its place among the 8 D doubles
+      const int d = at % D, l = at / D;
+      t.from_two[q][k] = d == 0 ? l : d == 1 ? 8 + l : 0;
+      t.from_last[q][k] = d == 2 ? l : 0;
+      if (d == 2) t.last[q] = static_cast<__mmask8>(t.last[q] | (1u << k));
+    }
+  }
+  return t;
+}
+template <int D>
+inline constexpr Tables<D> kTables = make_tables<D>();
+}  // namespace component_detail
+
+template <int D>
+__attribute__((always_inline)) inline __m512d component(const __m512d (&r)[D], int d) {
+  static_assert(D == 2 || D == 3);
+  const auto& t = component_detail::kTables<D>;
+  __m512d c = _mm512_permutex2var_pd(r[0], _mm512_load_si512(t.low[d]), r[1]);
   if constexpr (D == 3)
-    c = _mm512_mask_permutexvar_pd(c, from_third, _mm512_load_si512(high), r[2]);
+    c = _mm512_mask_permutexvar_pd(c, t.from_third[d], _mm512_load_si512(t.high[d]), r[2]);
   return c;
 }
 
@@ -130,21 +168,14 @@ __m512d component(const __m512d (&r)[D], int d) {
 // d; stores the eight particles' D-vectors at p[D i] .. (permutations: no
 // arithmetic).
 template <int D>
-void store_vectors(double* p, std::size_t i, const __m512d (&rows)[D]) {
+__attribute__((always_inline)) inline void store_vectors(double* p, std::size_t i,
+                                                         const __m512d (&rows)[D]) {
   static_assert(D == 2 || D == 3);
+  const auto& t = component_detail::kTables<D>;
   for (int q = 0; q < D; ++q) {
-    alignas(64) long long from_two[8], from_last[8];
-    __mmask8 last = 0;
-    for (int k = 0; k < 8; ++k) {
-      const int at = 8 * q + k;  // its place among the 8 D doubles
-      const int d = at % D, l = at / D;
-      from_two[k] = d == 0 ? l : d == 1 ? 8 + l : 0;
-      from_last[k] = d == 2 ? l : 0;
-      if (d == 2) last = static_cast<__mmask8>(last | (1u << k));
-    }
-    __m512d out = _mm512_permutex2var_pd(rows[0], _mm512_load_si512(from_two), rows[1]);
+    __m512d out = _mm512_permutex2var_pd(rows[0], _mm512_load_si512(t.from_two[q]), rows[1]);
     if constexpr (D == 3)
-      out = _mm512_mask_permutexvar_pd(out, last, _mm512_load_si512(from_last), rows[2]);
+      out = _mm512_mask_permutexvar_pd(out, t.last[q], _mm512_load_si512(t.from_last[q]), rows[2]);
     _mm512_storeu_pd(p + D * i + 8 * static_cast<std::size_t>(q), out);
   }
 }

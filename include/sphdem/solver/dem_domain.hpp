@@ -9,6 +9,7 @@
 // when the decomposition changes. Results are bitwise the same on any
 // number of ranks (gather formulation, dem.hpp).
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "sphdem/dem/dem.hpp"
@@ -29,15 +30,19 @@ class DemDomain {
   enum class Input { Replicated, Share };
   // Collective. halo_range: how far other ranks must see a particle (at
   // least the DEM pair reach 2 R_max + skin, which is added here; a coupled
-  // run passes the SPH kernel support). Either input gives the owned
-  // particles in the same (gid) order.
+  // run passes the resin's cut-off). Either input gives the owned
+  // particles in the same (gid) order. skin_limit: the largest pair-list
+  // skin (a coupled run's, coupled_skins.hpp).
   DemDomain(const Decomposition<D>& dec, const DemParams<D>& params, std::vector<DemWall<D>> walls,
-            DemParticles<D> particles, double halo_range = 0, Input input = Input::Replicated);
+            DemParticles<D> particles, double halo_range = 0, Input input = Input::Replicated,
+            double skin_limit = std::numeric_limits<double>::infinity());
 
   // The pair-list skin and the pair reach 2 R_max + skin for particle radii
   // in [r_min, r_max]: the smallest cell a DEM-only decomposition may use.
   static double skin(double r_min) { return 0.25 * r_min; }
   static double reach(double r_min, double r_max) { return 2.0 * r_max + skin(r_min); }
+  // The pair-list skin this domain chose (the same on every rank).
+  double list_skin() const { return ws_.skin; }
 
   // Collective. n velocity-Verlet sub-steps of dt, f_ext held constant.
   void advance(std::int64_t n, double dt);

@@ -34,12 +34,14 @@ DemSystem<D> case_fibers(const Case& c, std::vector<int>& wall_owner, FiberPlace
                          const FiberShare<D>* share = nullptr);
 
 // Where coupled fibers live: the resin's decomposition, the mold box they
-// must stay in, and how far their ghosts reach (the SPH kernel support).
+// must stay in, how far their ghosts reach (the resin's cut-off) and the
+// largest skin their lists may have (coupled_skins.hpp).
 template <int D>
 struct FiberHost {
   const Decomposition<D>& dec;
   Box<D> domain;
   double halo_range;
+  double skin_limit;
 };
 
 // A DEM sub-step of a coupled run is at most this times the fibers' drag

@@ -52,6 +52,7 @@ class ResinModule final : public Module<D> {
   std::int64_t global_wall_count() const { return n_wall_global_; }
   const Box<D>& domain() const { return domain_; }
   double neighbor_cutoff() const { return nl_.cutoff(); }
+  double neighbor_skin() const { return nl_.skin(); }
   std::int64_t neighbor_builds() const { return nl_.builds(); }
   std::size_t neighbor_pairs() const { return nl_.total_pairs(); }      // this rank's lists
   std::size_t neighbor_wide_pairs() const { return nl_.wide_pairs(); }  // of those, 32-bit
