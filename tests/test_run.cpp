@@ -4,6 +4,7 @@
 // line are the run's, whatever its modules.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -73,6 +74,12 @@ TEST(RunDriver, CoupledSkinsKeepTheCouplingsPartnersInTheHalo) {
   EXPECT_EQ(fiber_skin, kFiberSkinShare * resin_skin);
   EXPECT_LE(kCoupledResinMoveShare * resin_skin + 0.5 * fiber_skin, resin_skin);
   EXPECT_GE(coupled.fibers()->dem().halo_range(), coupled.resin()->neighbor_cutoff());
+  // A resin without a skin rebuilds at every move; so do the fibers, on
+  // the smallest positive skin (0 would mean a quarter of their radius).
+  const sphdem::Run<2> no_skin(input("validation/coupled_box.yaml", {"numerics.neighbor_skin=0"}),
+                               comm, quiet());
+  EXPECT_EQ(no_skin.resin()->neighbor_skin(), 0.0);
+  EXPECT_EQ(no_skin.fibers()->dem().list_skin(), std::numeric_limits<double>::min());
 }
 
 TEST(RunDriver, WrappersRefuseTheOtherKindOfCase) {

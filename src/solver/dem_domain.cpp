@@ -43,7 +43,11 @@ DemDomain<D>::DemDomain(const Decomposition<D>& dec, const DemParams<D>& params,
     for (int k = 0; k < D; ++k) cell = std::min(cell, dec_.grid().size(k));
     s = std::max(s, std::min(cell - 2.0 * r_max, params_.max_skin * r_min));
   }
+  // A cap of 0 (a resin without a skin) leaves the smallest positive skin:
+  // every move rebuilds, as the resin's lists do (a skin of 0 would mean
+  // dem_build_pairs' default, a quarter of R_min).
   s = std::min(s, skin_limit);
+  if (!(s > 0)) s = std::numeric_limits<double>::min();
   ws_.skin = n_global_ > 0 ? s : 0;
   range_ = std::max(halo_range, n_global_ > 0 ? 2.0 * r_max + s : 0.0);
   // Implicit bonds solve each fiber whole: every rank that owns a particle
