@@ -223,6 +223,53 @@ void sort_unpacked(const SphParticles<D>& ps, std::uint64_t* key, std::size_t m)
   });
 }
 
+#if defined(SPHDEM_PARTICLE_LANES)
+// The 3D search eight candidates at a time (docs/performance.md, "The 3D
+// list build's search"): the binned particles' coordinates, one array per
+// axis, and their keys (gid << 32 | index), in bin order, so that a run of
+// cells adjacent in memory is one run of candidates read without a gather.
+struct BinnedCandidates {
+  std::vector<double> x[3];
+  std::vector<std::uint64_t> key;
+
+  template <int D>
+  void fill(const SphParticles<D>& ps, const std::int32_t* items, std::size_t n) {
+    for (auto& c : x) c.resize(n + 8);  // whole vectors past the end
+    key.resize(n + 8);
+    for (std::size_t s = 0; s < n; ++s) {
+      const auto j = static_cast<std::size_t>(items[s]);
+      for (int k = 0; k < D; ++k) x[k][s] = ps.x[j][k];
+      key[s] = static_cast<std::uint64_t>(ps.gid[j]) << 32 | static_cast<std::uint32_t>(j);
+    }
+  }
+
+  // Appends to out the keys of candidates [s0, s1) within rc2 of xi
+  // (distance2's operations), but `self` (a key); returns the new end.
+  std::uint64_t* near(const double* xi, double rc2, std::uint64_t self, std::size_t s0,
+                      std::size_t s1, std::uint64_t* out) const {
+    const __m512d x0 = _mm512_set1_pd(xi[0]), x1 = _mm512_set1_pd(xi[1]),
+                  x2 = _mm512_set1_pd(xi[2]), limit = _mm512_set1_pd(rc2);
+    const __m512i me = _mm512_set1_epi64(static_cast<long long>(self));
+    for (std::size_t s = s0; s < s1; s += 8) {
+      const __mmask8 valid =
+          s1 - s >= 8 ? __mmask8{0xff} : static_cast<__mmask8>((1U << (s1 - s)) - 1);
+      const __m512d d0 = _mm512_sub_pd(x0, _mm512_maskz_loadu_pd(valid, x[0].data() + s));
+      const __m512d d1 = _mm512_sub_pd(x1, _mm512_maskz_loadu_pd(valid, x[1].data() + s));
+      const __m512d d2 = _mm512_sub_pd(x2, _mm512_maskz_loadu_pd(valid, x[2].data() + s));
+      __m512d r2 = _mm512_mul_pd(d0, d0);
+      r2 = _mm512_fmadd_pd(d1, d1, r2);
+      r2 = _mm512_fmadd_pd(d2, d2, r2);
+      const __m512i k = _mm512_maskz_loadu_epi64(valid, key.data() + s);
+      const __mmask8 keep = _mm512_mask_cmpneq_epi64_mask(
+          _mm512_mask_cmp_pd_mask(valid, r2, limit, _CMP_LT_OQ), k, me);
+      _mm512_mask_compressstoreu_epi64(out, keep, k);
+      out += __builtin_popcount(keep);
+    }
+    return out;
+  }
+};
+#endif
+
 }  // namespace
 
 template <int D>
@@ -250,10 +297,29 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
   // candidates for about 2 particles: sorting those would cost more than
   // the per-particle sort of about 60 kept ones.
   const bool shared = D == 2 && packed;
+#if defined(SPHDEM_PARTICLE_LANES)
+  // 3D with packed keys: the search eight candidates at a time, in the
+  // order of the grid's fast axis.
+  thread_local BinnedCandidates binned;
+  const bool binned_ready = D == 3 && packed && n > 0;
+  int fast = 0;
+  for (int k = 0; k < D; ++k)
+    if (g.stride[static_cast<std::size_t>(k)] == 1 && g.n[static_cast<std::size_t>(k)] > 1)
+      fast = k;
+#else
+  constexpr bool binned_ready = false;
+#endif
   thread_local neighbor_detail::CellCandidates<D> cell_candidates;
   long prepared = -1;  // the cell whose candidates cell_candidates holds
   thread_local std::vector<std::uint64_t> keys, spare;
   thread_local std::vector<std::int32_t> list;
+#if defined(SPHDEM_PARTICLE_LANES)
+  if (binned_ready) {
+    binned.fill(ps, cell_items, n);
+    if (keys.size() < n) keys.resize(n);
+    if (list.size() < n + 8) list.resize(n + 8);
+  }
+#endif
   // The storage of the last build to start with (3D lists rarely fit 16
   // bits: no 16-bit array and its conversion at every build there).
   const bool wide_first = all_wide_;
@@ -282,7 +348,8 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
     // include the walls, masked out by near().
     const bool resin_only = wall_i && !shared;
     std::size_t candidates = 0;
-    for (long cz = lo[2]; cz <= hi[2]; ++cz)
+    // (The eight-at-a-time search has room for every particle: below.)
+    for (long cz = lo[2]; !binned_ready && cz <= hi[2]; ++cz)
       for (long cy = lo[1]; cy <= hi[1]; ++cy) {
         for (long cx = lo[0]; cx <= hi[0]; ++cx) {
           const long cell = g.cell(cx, cy, cz);
@@ -298,7 +365,35 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
     const long own_cell = g.cell(c[0], c[1], c[2]);
     const bool gather = !shared || own_cell != prepared;
     std::size_t m = 0;
-    for (long cz = lo[2]; gather && cz <= hi[2]; ++cz)
+#if defined(SPHDEM_PARTICLE_LANES)
+    if constexpr (D == 3) {
+      if (binned_ready) {
+        // Along the axis numbered first (stride 1) a row of cells is one run
+        // of candidates (a wall's: each cell's resin part).
+        const int a = fast, b = (fast + 1) % 3, e = (fast + 2) % 3;
+        const auto self =
+            static_cast<std::uint64_t>(ps.gid[i]) << 32 | static_cast<std::uint32_t>(i);
+        std::uint64_t* out = key;
+        std::array<long, 3> cc{};
+        for (cc[e] = lo[e]; cc[e] <= hi[e]; ++cc[e])
+          for (cc[b] = lo[b]; cc[b] <= hi[b]; ++cc[b]) {
+            cc[a] = lo[a];
+            const long first = g.cell(cc[0], cc[1], cc[2]);
+            const long last = first + (hi[a] - lo[a]);
+            if (!resin_only) {
+              out = binned.near(xi.data(), rc2, self, static_cast<std::size_t>(cell_start_[first]),
+                                static_cast<std::size_t>(cell_start_[last + 1]), out);
+            } else {
+              for (long cell = first; cell <= last; ++cell)
+                out = binned.near(xi.data(), rc2, self, static_cast<std::size_t>(cell_start_[cell]),
+                                  static_cast<std::size_t>(cell_resin_end_[cell]), out);
+            }
+          }
+        m = static_cast<std::size_t>(out - key);
+      }
+    }
+#endif
+    for (long cz = lo[2]; gather && !binned_ready && cz <= hi[2]; ++cz)
       for (long cy = lo[1]; cy <= hi[1]; ++cy)
         for (long cx = lo[0]; cx <= hi[0]; ++cx) {
           const long cell = g.cell(cx, cy, cz);
