@@ -316,8 +316,14 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
 #if defined(SPHDEM_PARTICLE_LANES)
   if (binned_ready) {
     binned.fill(ps, cell_items, n);
-    if (keys.size() < n) keys.resize(n);
-    if (list.size() < n + 8) list.resize(n + 8);
+    // Room for any particle's candidates: its 5^3 cells at most the fullest
+    // cell's count each (no per-particle count of its candidates).
+    std::int32_t fullest = 0;
+    for (std::size_t c = 0; c + 1 < cell_start_.size(); ++c)
+      fullest = std::max(fullest, cell_start_[c + 1] - cell_start_[c]);
+    const std::size_t room = std::min<std::size_t>(n, 125 * static_cast<std::size_t>(fullest));
+    if (keys.size() < room) keys.resize(room);
+    if (list.size() < room + 8) list.resize(room + 8);
   }
 #endif
   // The storage of the last build to start with (3D lists rarely fit 16
@@ -348,7 +354,6 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
     // include the walls, masked out by near().
     const bool resin_only = wall_i && !shared;
     std::size_t candidates = 0;
-    // (The eight-at-a-time search has room for every particle: below.)
     for (long cz = lo[2]; !binned_ready && cz <= hi[2]; ++cz)
       for (long cy = lo[1]; cy <= hi[1]; ++cy) {
         for (long cx = lo[0]; cx <= hi[0]; ++cx) {

@@ -157,6 +157,9 @@ CaseSize estimate(const Case& c, int ranks) {
     // the measured peak at 1 to 8 ranks (docs/scaling.md).
     sph_run =
         kSphOverhead * (owned + ghosts) * (2.0 * per_particle + neighbours * sizeof(std::int32_t));
+    // 3D: the list build's copy of the binned coordinates and keys, four
+    // doubles per particle, kept between builds (src/neighbor/neighbor_list.cpp).
+    if (D == 3) sph_run += (owned + ghosts) * 4.0 * sizeof(double);
     // Implicit viscosity: a coefficient and a wall's Shepard weight per
     // neighbour, the solve's ten vectors, the diagonal and a wall's weight
     // sum per owned particle (src/sph/implicit_viscosity.cpp).
