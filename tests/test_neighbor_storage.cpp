@@ -28,7 +28,8 @@ void add(SphParticles<2>& ps, std::int64_t gid, Kind kind, Vec<2> x) {
 }
 
 // Particle i's list by brute force.
-std::vector<std::int32_t> brute(const SphParticles<2>& ps, std::size_t i, double rc) {
+template <int D>
+std::vector<std::int32_t> brute(const SphParticles<D>& ps, std::size_t i, double rc) {
   std::vector<std::int32_t> l;
   for (std::size_t j = 0; j < ps.size(); ++j) {
     if (j == i || (ps.kind[i] == Kind::Wall && ps.kind[j] == Kind::Wall)) continue;
@@ -42,7 +43,8 @@ std::vector<std::int32_t> brute(const SphParticles<2>& ps, std::size_t i, double
   return l;
 }
 
-std::vector<std::int32_t> listed(const NeighborList<2>& nl, std::size_t i) {
+template <int D>
+std::vector<std::int32_t> listed(const NeighborList<D>& nl, std::size_t i) {
   std::vector<std::int32_t> l;
   const NeighborRow nb = nl.row(i);
   for (std::size_t n = nl.begin(i); n < nl.end(i); ++n) l.push_back(nb[n]);
@@ -417,23 +419,10 @@ TEST(NeighborStorage, RandomCloud3dWithGhostsMatchesBruteForce) {
   }
   NeighborList<3> nl(1.0, 0.2);
   nl.build(ps);
-  const double rc = nl.cutoff();
   std::size_t pairs = 0;
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
-    std::vector<std::int32_t> want;
-    for (std::size_t j = 0; j < ps.size(); ++j) {
-      if (j == i || (ps.kind[i] == Kind::Wall && ps.kind[j] == Kind::Wall)) continue;
-      if ((ps.x[i] - ps.x[j]).squaredNorm() < rc * rc) want.push_back(static_cast<std::int32_t>(j));
-    }
-    std::sort(want.begin(), want.end(), [&](std::int32_t a, std::int32_t b) {
-      if (ps.gid[a] != ps.gid[b]) return ps.gid[a] < ps.gid[b];
-      return std::lexicographical_compare(ps.x[a].begin(), ps.x[a].end(), ps.x[b].begin(),
-                                          ps.x[b].end());
-    });
-    std::vector<std::int32_t> got;
-    const NeighborRow nb = nl.row(i);
-    for (std::size_t n = nl.begin(i); n < nl.end(i); ++n) got.push_back(nb[n]);
-    EXPECT_EQ(got, want) << i;
+    const std::vector<std::int32_t> got = listed(nl, i);
+    EXPECT_EQ(got, brute(ps, i, nl.cutoff())) << i;
     pairs += got.size();
   }
   EXPECT_GT(pairs, 1500U * 60U);  // long rows: many vectors each
