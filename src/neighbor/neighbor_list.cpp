@@ -224,10 +224,11 @@ void sort_unpacked(const SphParticles<D>& ps, std::uint64_t* key, std::size_t m)
 }
 
 #if defined(SPHDEM_PARTICLE_LANES)
-// The 3D search eight candidates at a time (docs/performance.md, "The 3D
-// list build's search"): the binned particles' coordinates, one array per
-// axis, and their keys (gid << 32 | index), in bin order, so that a run of
-// cells adjacent in memory is one run of candidates read without a gather.
+// The 3D search eight candidates at a time (docs/performance.md, "A fourth
+// CPU, AMD Zen 5; the 3D list build's search eight at a time"): the binned
+// particles' coordinates, one array per axis, and their keys (gid << 32 |
+// index), in bin order, so that a run of cells adjacent in memory is one
+// run of candidates read without a gather.
 struct BinnedCandidates {
   std::vector<double> x[3];
   std::vector<std::uint64_t> key;
