@@ -152,6 +152,73 @@ struct PackFour {
 inline constexpr PackFour kPackFour{};
 #endif
 
+#if defined(SPHDEM_CANDIDATES_AVX512)
+// Which of the eight candidates at x[d] + k (of those in `valid`) lie
+// within sqrt(rc2) of xi, given as xv (xi[d] in every lane) and limit
+// (rc2): distance2's operations, eight at a time. Reads eight doubles per
+// axis from x[d] + k.
+template <int D>
+inline __mmask8 within8(const __m512d (&xv)[D], const double* const (&x)[D], std::size_t k,
+                        __mmask8 valid, __m512d limit) {
+  __m512d t = _mm512_sub_pd(xv[0], _mm512_loadu_pd(x[0] + k));
+  __m512d d2 = _mm512_mul_pd(t, t);
+  for (int d = 1; d < D; ++d) {
+    t = _mm512_sub_pd(xv[d], _mm512_loadu_pd(x[d] + k));
+    d2 = _mm512_fmadd_pd(t, t, d2);
+  }
+  return _mm512_mask_cmp_pd_mask(valid, d2, limit, _CMP_LT_OQ);
+}
+
+// The 3D search (NeighborList<3>::build; docs/performance.md, "A fourth
+// CPU, AMD Zen 5; the 3D list build's search eight at a time"): the binned
+// particles' coordinates, one array per axis, and their keys (gid << 32 |
+// index, every gid below 2^32), in bin order, so that a run of cells
+// adjacent in memory is one run of candidates, read without a gather.
+template <int D>
+class BinnedCandidates {
+ public:
+  // items[0 .. n): the particles in bin order.
+  void fill(const SphParticles<D>& ps, const std::int32_t* items, std::size_t n) {
+    for (auto& c : x_) c.resize(n + 8);  // whole vectors past the end
+    key_.resize(n + 8);
+    for (std::size_t s = 0; s < n; ++s) {
+      const auto j = static_cast<std::size_t>(items[s]);
+      for (int d = 0; d < D; ++d) x_[d][s] = ps.x[j][d];
+      key_[s] = static_cast<std::uint64_t>(ps.gid[j]) << 32 | static_cast<std::uint32_t>(j);
+    }
+  }
+
+  // Appends to out the keys of candidates [s0, s1) within sqrt(rc2) of xi,
+  // but `self` (a key); returns the new end. Stores whole vectors: out has
+  // room for 8 past the last key kept.
+  std::uint64_t* near(const Vec<D>& xi, double rc2, std::uint64_t self, std::size_t s0,
+                      std::size_t s1, std::uint64_t* out) const {
+    const double* x[D];
+    __m512d xv[D];
+    for (int d = 0; d < D; ++d) {
+      x[d] = x_[d].data();
+      xv[d] = _mm512_set1_pd(xi[d]);
+    }
+    const __m512d limit = _mm512_set1_pd(rc2);
+    const __m512i me = _mm512_set1_epi64(static_cast<long long>(self));
+    for (std::size_t s = s0; s < s1; s += 8) {
+      const auto valid = static_cast<__mmask8>(s1 - s >= 8 ? 0xff : (1u << (s1 - s)) - 1);
+      const __m512i k = _mm512_loadu_si512(key_.data() + s);
+      const __mmask8 keep =
+          _mm512_mask_cmpneq_epi64_mask(within8<D>(xv, x, s, valid, limit), k, me);
+      // Compressed in a register and stored whole (CellCandidates::near).
+      _mm512_storeu_si512(out, _mm512_maskz_compress_epi64(keep, k));
+      out += __builtin_popcount(keep);
+    }
+    return out;
+  }
+
+ private:
+  std::vector<double> x_[D];
+  std::vector<std::uint64_t> key_;
+};
+#endif
+
 // One cell's candidates in list order, structure of arrays, padded to a
 // multiple of 8 so that vector loads stay inside.
 template <int D>
@@ -195,14 +262,8 @@ class CellCandidates {
     for (std::size_t k = 0; k < m_; k += 8) {
       const std::size_t left = m_ - k;
       const auto valid = static_cast<__mmask8>(left >= 8 ? 0xff : (1u << left) - 1);
-      __m512d t = _mm512_sub_pd(xv[0], _mm512_loadu_pd(x[0] + k));
-      __m512d d2 = _mm512_mul_pd(t, t);
-      for (int d = 1; d < D; ++d) {
-        t = _mm512_sub_pd(xv[d], _mm512_loadu_pd(x[d] + k));
-        d2 = _mm512_fmadd_pd(t, t, d2);
-      }
       const __m256i id = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + k));
-      __mmask8 keep = _mm512_mask_cmp_pd_mask(valid, d2, limit, _CMP_LT_OQ);
+      __mmask8 keep = within8<D>(xv, x, k, valid, limit);
       keep &= _mm256_cmpneq_epi32_mask(id, own);
       keep &= static_cast<__mmask8>(~(walls[k / 8] & no_walls));
       // Compressed in a register and stored whole: a compressing store to

@@ -223,54 +223,6 @@ void sort_unpacked(const SphParticles<D>& ps, std::uint64_t* key, std::size_t m)
   });
 }
 
-#if defined(SPHDEM_PARTICLE_LANES)
-// The 3D search eight candidates at a time (docs/performance.md, "A fourth
-// CPU, AMD Zen 5; the 3D list build's search eight at a time"): the binned
-// particles' coordinates, one array per axis, and their keys (gid << 32 |
-// index), in bin order, so that a run of cells adjacent in memory is one
-// run of candidates read without a gather.
-struct BinnedCandidates {
-  std::vector<double> x[3];
-  std::vector<std::uint64_t> key;
-
-  template <int D>
-  void fill(const SphParticles<D>& ps, const std::int32_t* items, std::size_t n) {
-    for (auto& c : x) c.resize(n + 8);  // whole vectors past the end
-    key.resize(n + 8);
-    for (std::size_t s = 0; s < n; ++s) {
-      const auto j = static_cast<std::size_t>(items[s]);
-      for (int k = 0; k < D; ++k) x[k][s] = ps.x[j][k];
-      key[s] = static_cast<std::uint64_t>(ps.gid[j]) << 32 | static_cast<std::uint32_t>(j);
-    }
-  }
-
-  // Appends to out the keys of candidates [s0, s1) within rc2 of xi
-  // (distance2's operations), but `self` (a key); returns the new end.
-  std::uint64_t* near(const double* xi, double rc2, std::uint64_t self, std::size_t s0,
-                      std::size_t s1, std::uint64_t* out) const {
-    const __m512d x0 = _mm512_set1_pd(xi[0]), x1 = _mm512_set1_pd(xi[1]),
-                  x2 = _mm512_set1_pd(xi[2]), limit = _mm512_set1_pd(rc2);
-    const __m512i me = _mm512_set1_epi64(static_cast<long long>(self));
-    for (std::size_t s = s0; s < s1; s += 8) {
-      const __mmask8 valid =
-          s1 - s >= 8 ? __mmask8{0xff} : static_cast<__mmask8>((1U << (s1 - s)) - 1);
-      const __m512d d0 = _mm512_sub_pd(x0, _mm512_maskz_loadu_pd(valid, x[0].data() + s));
-      const __m512d d1 = _mm512_sub_pd(x1, _mm512_maskz_loadu_pd(valid, x[1].data() + s));
-      const __m512d d2 = _mm512_sub_pd(x2, _mm512_maskz_loadu_pd(valid, x[2].data() + s));
-      __m512d r2 = _mm512_mul_pd(d0, d0);
-      r2 = _mm512_fmadd_pd(d1, d1, r2);
-      r2 = _mm512_fmadd_pd(d2, d2, r2);
-      const __m512i k = _mm512_maskz_loadu_epi64(valid, key.data() + s);
-      const __mmask8 keep = _mm512_mask_cmpneq_epi64_mask(
-          _mm512_mask_cmp_pd_mask(valid, r2, limit, _CMP_LT_OQ), k, me);
-      _mm512_mask_compressstoreu_epi64(out, keep, k);
-      out += __builtin_popcount(keep);
-    }
-    return out;
-  }
-};
-#endif
-
 }  // namespace
 
 template <int D>
@@ -298,10 +250,10 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
   // candidates for about 2 particles: sorting those would cost more than
   // the per-particle sort of about 60 kept ones.
   const bool shared = D == 2 && packed;
-#if defined(SPHDEM_PARTICLE_LANES)
+#if defined(SPHDEM_CANDIDATES_AVX512)
   // 3D with packed keys: the search eight candidates at a time, in the
-  // order of the grid's fast axis.
-  thread_local BinnedCandidates binned;
+  // order of the grid's fast axis (cell_candidates.hpp).
+  thread_local neighbor_detail::BinnedCandidates<D> binned;
   const bool binned_ready = D == 3 && packed && n > 0;
   int fast = 0;
   for (int k = 0; k < D; ++k)
@@ -314,7 +266,7 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
   long prepared = -1;  // the cell whose candidates cell_candidates holds
   thread_local std::vector<std::uint64_t> keys, spare;
   thread_local std::vector<std::int32_t> list;
-#if defined(SPHDEM_PARTICLE_LANES)
+#if defined(SPHDEM_CANDIDATES_AVX512)
   if (binned_ready) {
     binned.fill(ps, cell_items, n);
     // Room for any particle's candidates: its 5^3 cells at most the fullest
@@ -323,7 +275,7 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
     for (std::size_t c = 0; c + 1 < cell_start_.size(); ++c)
       fullest = std::max(fullest, cell_start_[c + 1] - cell_start_[c]);
     const std::size_t room = std::min<std::size_t>(n, 125 * static_cast<std::size_t>(fullest));
-    if (keys.size() < room) keys.resize(room);
+    if (keys.size() < room + 8) keys.resize(room + 8);  // near() stores whole vectors
     if (list.size() < room + 8) list.resize(room + 8);
   }
 #endif
@@ -371,7 +323,7 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
     const long own_cell = g.cell(c[0], c[1], c[2]);
     const bool gather = !shared || own_cell != prepared;
     std::size_t m = 0;
-#if defined(SPHDEM_PARTICLE_LANES)
+#if defined(SPHDEM_CANDIDATES_AVX512)
     if constexpr (D == 3) {
       if (binned_ready) {
         // Along the axis numbered first (stride 1) a row of cells is one run
@@ -387,11 +339,11 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
             const long first = g.cell(cc[0], cc[1], cc[2]);
             const long last = first + (hi[a] - lo[a]);
             if (!resin_only) {
-              out = binned.near(xi.data(), rc2, self, static_cast<std::size_t>(cell_start_[first]),
+              out = binned.near(xi, rc2, self, static_cast<std::size_t>(cell_start_[first]),
                                 static_cast<std::size_t>(cell_start_[last + 1]), out);
             } else {
               for (long cell = first; cell <= last; ++cell)
-                out = binned.near(xi.data(), rc2, self, static_cast<std::size_t>(cell_start_[cell]),
+                out = binned.near(xi, rc2, self, static_cast<std::size_t>(cell_start_[cell]),
                                   static_cast<std::size_t>(cell_resin_end_[cell]), out);
             }
           }
