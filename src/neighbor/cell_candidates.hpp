@@ -153,21 +153,35 @@ inline constexpr PackFour kPackFour{};
 #endif
 
 #if defined(SPHDEM_CANDIDATES_AVX512)
-// Which of the eight candidates at x[d] + k (of those in `valid`) lie
-// within sqrt(rc2) of xi, given as xv (xi[d] in every lane) and limit
-// (rc2): distance2's operations, eight at a time. Reads eight doubles per
-// axis from x[d] + k.
+// The distance test of the candidates held one array per axis (x[d], with
+// eight doubles to spare past the end) against the point xi: which of the
+// eight at k (of those in `valid`) lie within sqrt(rc2), with distance2's
+// operations.
 template <int D>
-inline __mmask8 within8(const __m512d (&xv)[D], const double* const (&x)[D], std::size_t k,
-                        __mmask8 valid, __m512d limit) {
-  __m512d t = _mm512_sub_pd(xv[0], _mm512_loadu_pd(x[0] + k));
-  __m512d d2 = _mm512_mul_pd(t, t);
-  for (int d = 1; d < D; ++d) {
-    t = _mm512_sub_pd(xv[d], _mm512_loadu_pd(x[d] + k));
-    d2 = _mm512_fmadd_pd(t, t, d2);
+class Within8 {
+ public:
+  Within8(const Vec<D>& xi, double rc2, const std::vector<double> (&x)[D])
+      : limit_(_mm512_set1_pd(rc2)) {
+    for (int d = 0; d < D; ++d) {
+      x_[d] = x[d].data();
+      xv_[d] = _mm512_set1_pd(xi[d]);
+    }
   }
-  return _mm512_mask_cmp_pd_mask(valid, d2, limit, _CMP_LT_OQ);
-}
+  __mmask8 operator()(std::size_t k, __mmask8 valid) const {
+    __m512d t = _mm512_sub_pd(xv_[0], _mm512_loadu_pd(x_[0] + k));
+    __m512d d2 = _mm512_mul_pd(t, t);
+    for (int d = 1; d < D; ++d) {
+      t = _mm512_sub_pd(xv_[d], _mm512_loadu_pd(x_[d] + k));
+      d2 = _mm512_fmadd_pd(t, t, d2);
+    }
+    return _mm512_mask_cmp_pd_mask(valid, d2, limit_, _CMP_LT_OQ);
+  }
+
+ private:
+  __m512d xv_[D];
+  __m512d limit_;
+  const double* x_[D];
+};
 
 // The 3D search (NeighborList<3>::build; docs/performance.md, "A fourth
 // CPU, AMD Zen 5; the 3D list build's search eight at a time"): the binned
@@ -193,19 +207,12 @@ class BinnedCandidates {
   // room for 8 past the last key kept.
   std::uint64_t* near(const Vec<D>& xi, double rc2, std::uint64_t self, std::size_t s0,
                       std::size_t s1, std::uint64_t* out) const {
-    const double* x[D];
-    __m512d xv[D];
-    for (int d = 0; d < D; ++d) {
-      x[d] = x_[d].data();
-      xv[d] = _mm512_set1_pd(xi[d]);
-    }
-    const __m512d limit = _mm512_set1_pd(rc2);
+    const Within8<D> within(xi, rc2, x_);
     const __m512i me = _mm512_set1_epi64(static_cast<long long>(self));
     for (std::size_t s = s0; s < s1; s += 8) {
       const auto valid = static_cast<__mmask8>(s1 - s >= 8 ? 0xff : (1u << (s1 - s)) - 1);
       const __m512i k = _mm512_loadu_si512(key_.data() + s);
-      const __mmask8 keep =
-          _mm512_mask_cmpneq_epi64_mask(within8<D>(xv, x, s, valid, limit), k, me);
+      const __mmask8 keep = _mm512_mask_cmpneq_epi64_mask(within(s, valid), k, me);
       // Compressed in a register and stored whole (CellCandidates::near).
       _mm512_storeu_si512(out, _mm512_maskz_compress_epi64(keep, k));
       out += __builtin_popcount(keep);
@@ -250,20 +257,14 @@ class CellCandidates {
     const std::int32_t* const index = index_.data();
     const std::uint8_t* const walls = wall_bits_.data();
 #if defined(SPHDEM_CANDIDATES_AVX512)
-    const double* x[D];
-    __m512d xv[D];
-    for (int d = 0; d < D; ++d) {
-      x[d] = x_[d].data();
-      xv[d] = _mm512_set1_pd(xi[d]);
-    }
-    const __m512d limit = _mm512_set1_pd(rc2);
+    const Within8<D> within(xi, rc2, x_);
     const __m256i own = _mm256_set1_epi32(self);
     const auto no_walls = static_cast<std::uint8_t>(wall_i ? 0xff : 0);
     for (std::size_t k = 0; k < m_; k += 8) {
       const std::size_t left = m_ - k;
       const auto valid = static_cast<__mmask8>(left >= 8 ? 0xff : (1u << left) - 1);
       const __m256i id = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index + k));
-      __mmask8 keep = within8<D>(xv, x, k, valid, limit);
+      __mmask8 keep = within(k, valid);
       keep &= _mm256_cmpneq_epi32_mask(id, own);
       keep &= static_cast<__mmask8>(~(walls[k / 8] & no_walls));
       // Compressed in a register and stored whole: a compressing store to
