@@ -7,9 +7,9 @@
 #   (cost of N steps - cost of B steps) / (resin particles x (N - B))
 # with the resin count from the run's banner. Every run writes the
 # snapshot of step 0 and one at its last step, so with B = 0 the cost holds
-# that last snapshot (about 4 % of the 3D mold's 120 steps); B > 0 cancels
-# it, and the first steps' own costs, in both cases (docs/performance.md,
-# "The last snapshot in the 3D cost"). The cost is the user CPU on
+# that last snapshot's user CPU; B > 0 cancels it, and the first steps' own
+# costs, in both cases (docs/performance.md, "The last snapshot in the 3D
+# cost": no difference beyond the noise). The cost is the user CPU on
 # one rank, and the wall time x RANKS (core-seconds, on a quiet machine:
 # waiting ranks poll) with more. Prints every round and the median and
 # range of the 3D / 2D ratio.
