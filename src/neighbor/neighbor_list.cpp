@@ -405,6 +405,7 @@ void NeighborList<D>::build(const SphParticles<D>& ps) {
   else if (!wide_first && all_wide)
     store_all_wide();
   all_wide_ = all_wide;
+  wide_used_ = wide_.size();
   resize_field(x_at_build_, n_own);
   double largest = 0.0;  // of the bounds' sums |f_x| + |f_y| (+ |f_z|); a NaN stays out
   for (std::size_t i = 0; i < n_own; ++i) {

@@ -160,6 +160,12 @@ CaseSize estimate(const Case& c, int ranks) {
     // 3D: the list build's copy of the binned coordinates and keys, four
     // doubles per particle, kept between builds (src/neighbor/neighbor_list.cpp).
     if (D == 3) sph_run += (owned + ghosts) * 4.0 * sizeof(double);
+    // 3D: the lists cut to the support, sized as the build's 16-bit lists,
+    // their offsets and every particle's position at the cut
+    // (include/sphdem/neighbor/support_lists.hpp).
+    if (D == 3)
+      sph_run += (owned + ghosts) *
+                 (neighbours * sizeof(std::int16_t) + sizeof(std::uint32_t) + D * sizeof(double));
     // Implicit viscosity: a coefficient and a wall's Shepard weight per
     // neighbour, the solve's ten vectors, the diagonal and a wall's weight
     // sum per owned particle (src/sph/implicit_viscosity.cpp).

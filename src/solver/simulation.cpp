@@ -60,6 +60,7 @@ ResinModule<D>::ResinModule(const RunContext<D>& ctx)
       eos_(case_.resin.density, case_.resin.sound_speed, case_.resin.gamma),
       domain_(simulation_domain<D>(case_)),
       nl_(2.0 * case_.h(), case_.numerics.neighbor_skin * 2.0 * case_.h()),
+      support_(2.0 * case_.h(), kSupportListMargin * 2.0 * case_.h()),
       dec_(case_decomposition<D>(comm_, case_, domain_, resin_min_cell(case_, nl_.cutoff()),
                                  max_blocks(comm_.size(), case_.parallel.min_top_cells,
                                             case_.parallel.top_cells_per_rank))) {
@@ -194,6 +195,10 @@ void ResinModule<D>::rates() {
     ScopedPhase t(timers_, Phase::Halo);
     halo_.forward(ps_, SphGroup::State);
   }
+  // In 3D the lists cut to the support and a margin (support_lists.hpp),
+  // the same bits as nl_ for every sum of this step: the wall state, the
+  // passes, the rates, the heat and the weld lines.
+  const NeighborList<D>& nl = D == 3 && support_lists_on() ? support_.lists(nl_, ps_) : nl_;
   compute_fluid_pressure<D>(eos_, sp_.pressure_floor, ps_);
   const double time = ctx_.clock.time;
   std::vector<WallKinematics<D>> kin(walls_.size());
@@ -203,19 +208,19 @@ void ResinModule<D>::rates() {
     kin[k].slip = walls_[k].slip;
     kin[k].thermal = walls_[k].thermal;
   }
-  const std::vector<WallFaceSample> face = compute_wall_state<D>(sp_, eos_, nl_, kin, ps_);
+  const std::vector<WallFaceSample> face = compute_wall_state<D>(sp_, eos_, nl, kin, ps_);
   update_wall_controllers(walls_, face_means(face), ctx_.clock.dt.dt);
   {
     ScopedPhase t(timers_, Phase::Halo);
     halo_.forward(ps_, SphGroup::WallState);
   }
-  compute_fluid_passes_and_rates<D>(sp_, nl_, ps_, [this](SphGroup g) {
+  compute_fluid_passes_and_rates<D>(sp_, nl, ps_, [this](SphGroup g) {
     ScopedPhase t(timers_, Phase::Halo);
     halo_.forward(ps_, g);
   });
-  if (sp_.thermal) compute_heat_rates<D>(sp_, nl_, ps_);
+  if (sp_.thermal) compute_heat_rates<D>(sp_, nl, ps_);
   if (case_.output.front_events) {
-    for (const WeldMark<D>& w : mark_weld_lines<D>(sp_, nl_, ps_)) {
+    for (const WeldMark<D>& w : mark_weld_lines<D>(sp_, nl, ps_)) {
       weld_events_.push_back({ps_.gid[w.i], 0, time});
       for (int d = 0; d < D; ++d) weld_events_.push_back({ps_.gid[w.i], d + 1, w.at[d]});
     }

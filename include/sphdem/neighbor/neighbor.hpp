@@ -102,6 +102,14 @@ class NeighborList {
   // half).
   bool box_needs_rebuild(const MoveBox& box, double max_move = 1.0) const;
 
+  // This list as the pairs of `full` (a build's lists) closer than
+  // sqrt(within2) at the particles' positions now (and those whose distance
+  // is not a number, as `full` holds them), each list in its order (global
+  // id) and storage (16- or 32-bit). Needs full's particles, owned and
+  // ghosts, in the same places. A list kept so answers no rebuild question.
+  // SupportLists (support_lists.hpp) keeps the 3D step's lists with it.
+  void keep_within(const NeighborList& full, const SphParticles<D>& ps, double within2);
+
   std::size_t begin(std::size_t i) const { return offset_[i]; }
   std::size_t end(std::size_t i) const { return offset_[i + 1]; }
   // Particle i's neighbours, indexed by list position (NeighborRow).
@@ -116,7 +124,7 @@ class NeighborList {
   // How the last build stored its lists: the pairs kept as 32-bit indices
   // (lists with an offset beyond 16 bits; every pair when those were more
   // than a quarter of all, then no 16-bit array is kept).
-  std::size_t wide_pairs() const { return all_wide_ ? total_pairs() : wide_.size(); }
+  std::size_t wide_pairs() const { return all_wide_ ? total_pairs() : wide_used_; }
   bool all_wide() const { return all_wide_; }
   double cutoff() const { return support_ + skin_; }
   double skin() const { return skin_; }
@@ -167,6 +175,7 @@ class NeighborList {
   std::vector<std::uint32_t> offset_;  // 4 bytes per particle (build checks the count)
   std::vector<std::int16_t> narrow_;   // per pair: neighbour index - own index
   std::vector<std::int32_t> wide_;     // the lists that do not fit (all of them if all_wide_)
+  std::size_t wide_used_ = 0;          // of wide_ (a kept list does not shrink it)
   std::vector<std::uint32_t> wide_rows_, wide_starts_;  // those lists' particles and starts
   std::vector<std::uint32_t> ghost_listers_;
   bool all_wide_ = false;

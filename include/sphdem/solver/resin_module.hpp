@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "sphdem/neighbor/neighbor.hpp"
+#include "sphdem/neighbor/support_lists.hpp"
 #include "sphdem/parallel/decomposition.hpp"
 #include "sphdem/parallel/halo.hpp"
 #include "sphdem/parallel/ordered_sum.hpp"
@@ -54,6 +55,7 @@ class ResinModule final : public Module<D> {
   double neighbor_cutoff() const { return nl_.cutoff(); }
   double neighbor_skin() const { return nl_.skin(); }
   std::int64_t neighbor_builds() const { return nl_.builds(); }
+  std::int64_t support_cuts() const { return support_.cuts(); }         // 3D: SupportLists
   std::size_t neighbor_pairs() const { return nl_.total_pairs(); }      // this rank's lists
   std::size_t neighbor_wide_pairs() const { return nl_.wide_pairs(); }  // of those, 32-bit
   // Load balance (docs/parallel.md): the imbalance (max / mean - 1 of the
@@ -97,6 +99,8 @@ class ResinModule final : public Module<D> {
   Box<D> domain_;
   SphParticles<D> ps_;
   NeighborList<D> nl_;
+  // In 3D, nl_ cut to the support for each step's sums (support_lists.hpp).
+  SupportLists<D> support_;
   Halo<D> halo_;
   std::int64_t n_fluid_global_ = 0, n_wall_global_ = 0;
   Decomposition<D> dec_;
