@@ -18,7 +18,8 @@
 // diagonal under the margin. The kept lists are then a superset of the
 // pairs within the support, in the build's order, and a pair beyond the
 // support adds exact zeros to every sum: the sums are the same bits with
-// either lists, whenever each rank cuts (tests: SupportLists.*).
+// either lists, whenever each rank cuts (tests: SupportLists.*; the 3D
+// molds on 2 ranks against 1, Mold3D.*RankIndependent).
 #include <cstdint>
 #include <vector>
 
