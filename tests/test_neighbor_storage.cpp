@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "listed_rows.hpp"
 #include "sphdem/core/errors.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
 #include "sphdem/particles/particles.hpp"
@@ -22,6 +23,8 @@
 
 namespace sphdem {
 namespace {
+
+using testing::listed;
 
 void add(SphParticles<2>& ps, std::int64_t gid, Kind kind, Vec<2> x) {
   ps.push_owned(gid, kind, -1, 1.0, x, Vec<2>::Zero(), 1000.0);
@@ -40,14 +43,6 @@ std::vector<std::int32_t> brute(const SphParticles<D>& ps, std::size_t i, double
     return std::lexicographical_compare(ps.x[a].begin(), ps.x[a].end(), ps.x[b].begin(),
                                         ps.x[b].end());
   });
-  return l;
-}
-
-template <int D>
-std::vector<std::int32_t> listed(const NeighborList<D>& nl, std::size_t i) {
-  std::vector<std::int32_t> l;
-  const NeighborRow nb = nl.row(i);
-  for (std::size_t n = nl.begin(i); n < nl.end(i); ++n) l.push_back(nb[n]);
   return l;
 }
 

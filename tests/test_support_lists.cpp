@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "listed_rows.hpp"
 #include "same_particles.hpp"
 #include "sphdem/config/config.hpp"
 #include "sphdem/neighbor/neighbor.hpp"
@@ -22,16 +23,10 @@
 namespace sphdem {
 namespace {
 
+using testing::listed;
+
 using testing::quiet;
 using testing::world;
-
-template <int D>
-std::vector<std::int32_t> listed(const NeighborList<D>& nl, std::size_t i) {
-  std::vector<std::int32_t> l;
-  const NeighborRow nb = nl.row(i);
-  for (std::size_t n = nl.begin(i); n < nl.end(i); ++n) l.push_back(nb[n]);
-  return l;
-}
 
 // Every owned particle's kept list is its full list's entries closer than
 // radius (or at a distance that is not a number), in the same order.
