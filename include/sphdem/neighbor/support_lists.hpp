@@ -38,7 +38,6 @@ class SupportLists {
   const NeighborList<D>& lists(const NeighborList<D>& full, const SphParticles<D>& ps);
 
   std::int64_t cuts() const { return cuts_; }  // how many times the lists were cut
-  double margin() const { return margin_; }
 
  private:
   // Whether some particle's move since the cut leaves the box of moves
