@@ -237,6 +237,31 @@ TEST(NeighborStorage, SortKeysOfEverySizeIsStdSort) {
   }
 }
 
+#if defined(SPHDEM_CANDIDATES_AVX512)
+// The sorting network (src/neighbor/bitonic_keys.hpp) sorts any keys, not
+// only the build's distinct ones: every size up to its 128, with repeated
+// keys, with keys equal to its padding (2^64 - 1) and with keys already in
+// order or reversed, std::sort's order.
+TEST(NeighborStorage, SortingNetworkOfEverySizeIsStdSort) {
+  std::mt19937_64 rng(5);
+  for (std::size_t m = 0; m <= neighbor_detail::bitonic::kMaxKeys; ++m) {
+    for (int shape = 0; shape < 4; ++shape) {
+      std::vector<std::uint64_t> key(m);
+      for (std::size_t k = 0; k < m; ++k) {
+        if (shape == 0) key[k] = rng() % 7;  // many repeats
+        if (shape == 1) key[k] = rng() % 3 == 0 ? ~std::uint64_t{0} : rng();
+        if (shape == 2) key[k] = k;
+        if (shape == 3) key[k] = (m - k) << 40;
+      }
+      std::vector<std::uint64_t> expected = key;
+      std::sort(expected.begin(), expected.end());
+      neighbor_detail::bitonic::sort(key.data(), m);
+      EXPECT_EQ(key, expected) << m << " keys, shape " << shape;
+    }
+  }
+}
+#endif
+
 // In 2D a cell's particles share one list of candidates, put in list order
 // once (src/neighbor/cell_candidates.hpp): up to kCountedKeys of them by a branch-free
 // rank sort, more by std::sort. A large cut-off (blocks of about 340

@@ -16,6 +16,7 @@
 #if defined(__AVX512F__) && defined(__AVX512VL__)
 #include <immintrin.h>
 #define SPHDEM_CANDIDATES_AVX512 1
+#include "bitonic_keys.hpp"
 #elif defined(__AVX2__) && defined(__FMA__)
 #include <immintrin.h>
 #define SPHDEM_CANDIDATES_AVX2 1
@@ -47,20 +48,30 @@ bool image_before(const SphParticles<D>& ps, std::int32_t a, std::int32_t b) {
                                       ps.x[b].end());
 }
 
-// The most keys sort_keys counts instead of calling std::sort. Counting
-// up to 128 with AVX-512 (a 2D cell's block holds about 69 candidates in the
-// channels) saved about 0.2 % of the 21k channel's time: the count's m^2 / 8
-// compares cost about what std::sort does there (docs/performance.md, "The
-// rebuild's sorts").
+// The most keys sort_keys counts with AVX2 instead of calling std::sort
+// (docs/performance.md, "The rebuild's sorts").
 inline constexpr std::size_t kCountedKeys = 64;
 
-// Sorts m distinct keys in place. Up to kCountedKeys keys with AVX-512 or
-// AVX2: each key's place is the count of keys below it (no branches);
-// more, std::sort.
+#if defined(SPHDEM_CANDIDATES_AVX512)
+// With AVX-512, the count up to 40 keys and a sorting network up to 128
+// (bitonic_keys.hpp): at 20 keys the count takes half the network's time,
+// at 86 (a 3D resin particle's candidates) the network 0.8 of the count's
+// and a fifth of std::sort's (docs/performance.md, "A sorting network for
+// the list build's keys").
+inline constexpr std::size_t kCountedKeysAvx512 = 40;
+#endif
+
+// Sorts m distinct keys in place. With AVX-512 or AVX2, few keys by a count
+// of the keys below each (no branches); with AVX-512, up to 128 by a
+// sorting network; more, std::sort.
 inline void sort_keys(std::uint64_t* key, std::size_t m, std::vector<std::uint64_t>& spare) {
 #if defined(SPHDEM_CANDIDATES_AVX512)
-  if (m <= kCountedKeys) {
-    __m512i r[kCountedKeys / 8];
+  if (m > kCountedKeysAvx512 && m <= bitonic::kMaxKeys) {
+    bitonic::sort(key, m);
+    return;
+  }
+  if (m <= kCountedKeysAvx512) {
+    __m512i r[(kCountedKeysAvx512 + 7) / 8];
     const std::size_t regs = (m + 7) / 8;
     const __m512i top = _mm512_set1_epi64(-1);  // above every key (an index is below 2^31)
     for (std::size_t q = 0; q < regs; ++q) {
