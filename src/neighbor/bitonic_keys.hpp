@@ -26,13 +26,14 @@ inline __m512i higher(__m512i a, __m512i b) {
   return _mm512_maskz_max_epu64(0xff, a, b);
 }
 
-// Lane l paired with lane l ^ d: the lower lane keeps the smaller key.
-// upper: the lanes with bit d set.
-template <int D>
+// Lane l paired with lane l ^ Dist: the lower lane keeps the smaller key
+// (upper: the lanes with bit Dist set take the larger).
+template <int Dist>
 inline __m512i half_clean_lanes(__m512i v) {
-  static_assert(D == 1 || D == 2 || D == 4);
-  const __m512i partner = _mm512_set_epi64(7 ^ D, 6 ^ D, 5 ^ D, 4 ^ D, 3 ^ D, 2 ^ D, 1 ^ D, 0 ^ D);
-  constexpr __mmask8 upper = D == 1 ? 0xaa : D == 2 ? 0xcc : 0xf0;
+  static_assert(Dist == 1 || Dist == 2 || Dist == 4);
+  const __m512i partner = _mm512_set_epi64(7 ^ Dist, 6 ^ Dist, 5 ^ Dist, 4 ^ Dist, 3 ^ Dist,
+                                           2 ^ Dist, 1 ^ Dist, 0 ^ Dist);
+  constexpr __mmask8 upper = Dist == 1 ? 0xaa : Dist == 2 ? 0xcc : 0xf0;
   const __m512i p = permute(partner, v);
   return _mm512_mask_blend_epi64(upper, lower(v, p), higher(v, p));
 }
@@ -99,7 +100,9 @@ inline void sort_registers(__m512i* r) {
   if constexpr (N >= 16) merge_runs<N, 8>(r);
 }
 
-// m keys (m <= 8N, every key below 2^64 - 1, the padding) sorted in place.
+// m <= 8N keys sorted in place. The registers are padded with 2^64 - 1,
+// which sorts last; a key of that value is equal to the padding, so the
+// first m places still hold the m keys in order.
 template <int N>
 inline void sort_padded(std::uint64_t* key, std::size_t m) {
   __m512i r[N];
