@@ -249,8 +249,9 @@ void kick_drift_resin(SphParticles<D>& ps, double dt) {
 // the step reads the positions once for both. With `box` (AVX-512 only;
 // other forms leave it empty), the pass also gives nl.move_box(ps).
 template <int D>
-bool kick_drift_resin_and_check(SphParticles<D>& ps, double dt, const NeighborList<D>& nl,
-                                std::optional<typename NeighborList<D>::MoveBox>* box = nullptr) {
+bool kick_drift_resin_and_check(
+    SphParticles<D>& ps, double dt, const NeighborList<D>& nl,
+    [[maybe_unused]] std::optional<typename NeighborList<D>::MoveBox>* box = nullptr) {
 #if defined(SPHDEM_PARTICLE_LANES)
   using namespace leapfrog_detail;
   if (nl.positions_at_build() != ps.n_owned) {  // needs_rebuild's first answer
