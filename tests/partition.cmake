@@ -34,7 +34,7 @@ set(_fibers ${PROJECT_SOURCE_DIR}/inputs/plate_fibers_3.8.yaml)
 add_test(NAME partition_cli_fiber_substeps
          COMMAND sh -c "out=$('$<TARGET_FILE:sphdem>' partition '${_fibers}' --ranks 2 \
 --fiber-substeps 15 2>&1) || exit 1; echo \"$out\"; echo \"$out\" | grep -q \
-'work: 10 per resin, 3 per wall particle, 5 x 15 sub-steps = 75 per fiber particle (700 placed)' \
+'work: 10 per resin, 3 per wall particle with resin in its top-level cell or the next, 1 per other wall particle, 5 x 15 sub-steps = 75 per fiber particle (700 placed)' \
 && out=$('$<TARGET_FILE:sphdem>' partition '${_plate}' --ranks 2 --fiber-substeps 3 2>&1); \
 rc=$?; echo \"$out\"; [ $rc -eq 2 ] && echo \"$out\" | grep -q -- '--fiber-substeps.*no fibers'")
 set_tests_properties(partition_cli_plate partition_cli_bad_ranks partition_cli_huge_domain

@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <cstdint>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "../src/app/partition_command.hpp"
 #include "sphdem/config/config.hpp"
@@ -19,6 +22,41 @@ namespace sphdem {
 namespace {
 
 const std::string kPlate = std::string(SPHDEM_SOURCE_DIR) + "/inputs/plate.yaml";
+
+// The weights by hand on a 5 x 3 grid of blocks: resin in block (1, 1);
+// walls in it, next to it (across a corner too), two blocks away, and in a
+// block with no resin near at all.
+TEST(Partition, WallsWeighByTheResinNearThem) {
+  const CellGrid<2> blocks(Box<2>{Vec<2>(0, 0), Vec<2>(5, 3)}, {false, false, false}, 1.0);
+  ASSERT_EQ(blocks.cells(), 15);
+  const auto at = [&](long i, long j) { return static_cast<std::size_t>(blocks.index({i, j, 0})); };
+  std::vector<std::int64_t> fluid(15, 0), walls(15, 0);
+  std::vector<std::uint8_t> holds_resin(15, 0);
+  fluid[at(1, 1)] = 4;
+  holds_resin[at(1, 1)] = 1;
+  walls[at(1, 1)] = 1;  // with the resin: 3
+  walls[at(2, 2)] = 2;  // across a corner: 3 each
+  walls[at(0, 0)] = 5;  // across the other corner
+  walls[at(3, 1)] = 7;  // two blocks away: 1 each
+  walls[at(4, 2)] = 1;
+  const std::vector<std::int64_t> work = weigh_blocks<2>(blocks, fluid, walls, holds_resin);
+  std::vector<std::int64_t> expected(15, 0);
+  expected[at(1, 1)] = 4 * 10 + 1 * 3;
+  expected[at(2, 2)] = 2 * 3;
+  expected[at(0, 0)] = 5 * 3;
+  expected[at(3, 1)] = 7 * 1;
+  expected[at(4, 2)] = 1;
+  EXPECT_EQ(work, expected);
+  EXPECT_EQ(kFluidWork, 10);
+  EXPECT_EQ(kWallWork, 3);
+  EXPECT_EQ(kIdleWallWork, 1);
+  // Whether a block holds resin is the caller's flag (a run's: over all
+  // ranks), not this rank's count.
+  holds_resin[at(4, 1)] = 1;
+  EXPECT_EQ(weigh_blocks<2>(blocks, fluid, walls, holds_resin)[at(3, 1)], 7 * 3);
+  EXPECT_THROW(weigh_blocks<2>(blocks, fluid, std::vector<std::int64_t>(3, 0), holds_resin),
+               std::invalid_argument);
+}
 
 TEST(Partition, PlateIsBalancedAtTwoAndFourRanks) {
   const PartitionReport r = partition_report(load_case(kPlate), {1, 2, 4});

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
@@ -53,8 +54,10 @@ TEST(PartitionWeights, PartsAreTheRunsFirstParts) {
   // The imbalance the set-up reports, of the resin and walls it weighs.
   EXPECT_DOUBLE_EQ(s.imbalance, sim.last_imbalance());
   EXPECT_EQ(r.fibers, 0);
-  EXPECT_NE(format_partition_table(r).find("work: 10 per resin, 3 per wall particle: the weights "
-                                           "of a run's first partition (its fibers not weighted"),
+  EXPECT_NE(format_partition_table(r).find(
+                "work: 10 per resin, 3 per wall particle with resin in its top-level cell or the "
+                "next, 1 per other wall particle: the weights of a run's first partition (its "
+                "fibers not weighted"),
             std::string::npos);
 }
 
@@ -97,6 +100,43 @@ TEST(PartitionWeights, FiberSubstepsWeighAsTheRunsRepartitions) {
     // The fibers in one corner move the parts.
     EXPECT_NE(s.owners, first.rows[k].owners) << s.ranks << " ranks";
   }
+}
+
+// A wall particle's weight depends on the resin near it on every rank: rank
+// 0 holds resin in block (0, 0), rank 1 walls in the block next to it
+// (kWallWork each) and three blocks away (kIdleWallWork each).
+TEST(PartitionWeights, WallsNextToAnotherRanksResinWeighAsNearResin) {
+  const Comm world(MPI_COMM_WORLD);
+  ASSERT_EQ(world.size(), 2);
+  const Decomposition<2> dec(world, Box<2>{Vec<2>(0, 0), Vec<2>(6, 2)}, {false, false, false}, 1.0);
+  ASSERT_EQ(dec.block_edge(), 1);
+  ASSERT_EQ(dec.blocks(), 12);
+  SphParticles<2> ps;
+  const auto add = [&ps](Kind kind, double x, double y) {
+    ps.push_owned(static_cast<std::int64_t>(ps.n_owned), kind, -1, 1.0, Vec<2>(x, y), Vec<2>(0, 0),
+                  1000);
+  };
+  if (world.root()) {
+    add(Kind::Fluid, 0.5, 0.5);
+    add(Kind::Fluid, 0.6, 0.4);
+  } else {
+    for (int k = 0; k < 3; ++k) add(Kind::Wall, 1.5, 0.2 + 0.2 * k);  // next to the resin
+    for (int k = 0; k < 2; ++k) add(Kind::Wall, 4.5, 0.5);            // three blocks away
+  }
+  const std::vector<std::int64_t> work = dec.cell_work(ps, ps.n_owned);
+  const auto block = [&](double x, double y) {
+    return static_cast<std::size_t>(dec.block_of(Vec<2>(x, y)));
+  };
+  std::vector<std::int64_t> expected(12, 0);
+  if (world.root()) {
+    expected[block(0.5, 0.5)] = 2 * kFluidWork;
+  } else {
+    expected[block(1.5, 0.5)] = 3 * kWallWork;
+    expected[block(4.5, 0.5)] = 2 * kIdleWallWork;
+  }
+  EXPECT_EQ(work, expected) << "rank " << world.rank();
+  // The imbalance check weighs the same: 20 against 11.
+  EXPECT_DOUBLE_EQ(dec.imbalance(ps), 20.0 * 2 / 31.0 - 1.0);
 }
 
 TEST(PartitionWeights, FiberSubstepsNeedFibers) {

@@ -72,7 +72,8 @@ CLI::App* add_partition_command(CLI::App& app, PartitionArgs& a) {
   cmd->footer(
       "Builds the initial particles serially (run it on one rank), the cell grid and METIS call\n"
       "of a run, and partitions once per rank count with the weights of a run's first\n"
-      "partition: 10 per resin, 3 per wall particle. A coupled run places its fibers after that\n"
+      "partition: 10 per resin particle, 3 per wall particle with resin in its top-level cell\n"
+      "or the next, 1 per other wall particle. A coupled run places its fibers after that\n"
       "partition (a restart partitions so too) and weighs them only when it re-partitions\n"
       "(parallel.balance_every, parallel.imbalance_threshold): 5 per fiber particle and DEM\n"
       "sub-step of the last resin step. --fiber-substeps N places the fibers as a run does and\n"

@@ -95,12 +95,12 @@ Section<ParallelSettings> make_parallel() {
               "the imbalance is measured at the first neighbor rebuild at least this many steps "
               "after the last measurement (the work per rank changes only when particles "
               "migrate, which happens at rebuilds); 0: never re-partition"),
-      number(
-          "imbalance_threshold", "", non_negative_number(), &P::imbalance_threshold,
-          "re-partition when the largest per-rank work exceeds the mean by more than this "
-          "fraction (work: 10 per resin particle, 3 per wall particle and, in a coupled run, 5 x "
-          "the last step's DEM sub-steps per fiber particle; docs/parallel.md \"Which "
-          "weights, when\")"),
+      number("imbalance_threshold", "", non_negative_number(), &P::imbalance_threshold,
+             "re-partition when the largest per-rank work exceeds the mean by more than this "
+             "fraction (work: 10 per resin particle, 3 per wall particle with resin in its "
+             "top-level cell or the next, 1 per other wall particle and, in a coupled run, 5 x "
+             "the last step's DEM sub-steps per fiber particle; docs/parallel.md \"Which "
+             "weights, when\")"),
       balance_weight(),
       integer("min_top_cells", "", 1, &P::min_top_cells,
               "the decomposition partitions top-level cells, blocks of b^D neighbor-search "

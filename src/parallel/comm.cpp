@@ -34,6 +34,9 @@ void Comm::sum(std::span<double> v) const {
 void Comm::sum(std::span<std::int64_t> v) const {
   MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_INT64_T, MPI_SUM, comm_);
 }
+void Comm::any(std::span<std::uint8_t> v) const {
+  MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_UINT8_T, MPI_BOR, comm_);
+}
 void Comm::max(std::span<double> v) const {
   MPI_Allreduce(MPI_IN_PLACE, v.data(), static_cast<int>(v.size()), MPI_DOUBLE, MPI_MAX, comm_);
 }

@@ -6,6 +6,7 @@
 #include <metis.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -273,13 +274,44 @@ Decomposition<D>::Decomposition(const Comm& comm, const Box<D>& domain,
       owner_(static_cast<std::size_t>(blocks_.cells()), 0) {}
 
 template <int D>
-std::vector<std::int64_t> Decomposition<D>::cell_work(const SphParticles<D>& ps,
-                                                      std::size_t n) const {
-  std::vector<std::int64_t> work(static_cast<std::size_t>(blocks()), 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    work[static_cast<std::size_t>(block_of(ps.x[i]))] += particle_work(ps, i);
+std::vector<std::int64_t> weigh_blocks(const CellGrid<D>& blocks,
+                                       const std::vector<std::int64_t>& fluid,
+                                       const std::vector<std::int64_t>& walls,
+                                       const std::vector<std::uint8_t>& holds_resin) {
+  const auto n = static_cast<std::size_t>(blocks.cells());
+  if (fluid.size() != n || walls.size() != n || holds_resin.size() != n)
+    throw std::invalid_argument("sphdem: weigh_blocks: a count per block expected");
+  std::vector<std::int64_t> work(n, 0);
+  std::array<long, 26> nb;
+  for (std::size_t b = 0; b < n; ++b) {
+    work[b] = kFluidWork * fluid[b];
+    if (walls[b] == 0) continue;
+    bool near = holds_resin[b] != 0;
+    const int m = near ? 0 : blocks.neighbors(static_cast<long>(b), nb);
+    for (int k = 0; k < m && !near; ++k)
+      near = holds_resin[static_cast<std::size_t>(nb[static_cast<std::size_t>(k)])] != 0;
+    work[b] += (near ? kWallWork : kIdleWallWork) * walls[b];
   }
   return work;
+}
+
+template <int D>
+std::vector<std::int64_t> Decomposition<D>::weigh(const std::vector<std::int64_t>& fluid,
+                                                  const std::vector<std::int64_t>& walls) const {
+  std::vector<std::uint8_t> holds_resin(fluid.size());
+  for (std::size_t b = 0; b < fluid.size(); ++b) holds_resin[b] = fluid[b] > 0 ? 1 : 0;
+  comm_.any(std::span<std::uint8_t>(holds_resin));
+  return weigh_blocks<D>(blocks_, fluid, walls, holds_resin);
+}
+
+template <int D>
+std::vector<std::int64_t> Decomposition<D>::cell_work(const SphParticles<D>& ps,
+                                                      std::size_t n) const {
+  std::vector<std::int64_t> fluid(static_cast<std::size_t>(blocks()), 0);
+  std::vector<std::int64_t> walls(fluid.size(), 0);
+  for (std::size_t i = 0; i < n; ++i)
+    ++(ps.kind[i] == Kind::Fluid ? fluid : walls)[static_cast<std::size_t>(block_of(ps.x[i]))];
+  return weigh(fluid, walls);
 }
 
 namespace {
@@ -492,11 +524,7 @@ double Decomposition<D>::partition_on_root(const std::vector<std::int64_t>& work
 
 template <int D>
 double Decomposition<D>::imbalance(const SphParticles<D>& ps) const {
-  std::int64_t mine = 0;
-  for (std::size_t i = 0; i < ps.n_owned; ++i) mine += particle_work(ps, i);
-  const std::int64_t most = comm_.max(mine), total = comm_.sum(mine);
-  if (total == 0) return 0.0;
-  return static_cast<double>(most) * comm_.size() / static_cast<double>(total) - 1.0;
+  return imbalance(cell_work(ps, ps.n_owned));
 }
 
 template <int D>
@@ -536,5 +564,13 @@ template class CellGrid<2>;
 template class CellGrid<3>;
 template class Decomposition<2>;
 template class Decomposition<3>;
+template std::vector<std::int64_t> weigh_blocks<2>(const CellGrid<2>&,
+                                                   const std::vector<std::int64_t>&,
+                                                   const std::vector<std::int64_t>&,
+                                                   const std::vector<std::uint8_t>&);
+template std::vector<std::int64_t> weigh_blocks<3>(const CellGrid<3>&,
+                                                   const std::vector<std::int64_t>&,
+                                                   const std::vector<std::int64_t>&,
+                                                   const std::vector<std::uint8_t>&);
 
 }  // namespace sphdem

@@ -27,26 +27,29 @@ namespace sphdem {
 
 namespace {
 
-// What the cells hold at the start: the partition weights exactly as a run
-// computes them, and particle counts for the halo. The weights are the
-// resin's and walls' (Decomposition::cell_work), the run's first partition
-// (fill_distributed sums the same per lattice node); with fiber sub-steps
-// also the placed fibers' (add_fiber_work), as a re-partition of a coupled
-// run weighs them (ResinModule::cell_work).
+// What the cells hold at the start: the resin and wall particles, which
+// measure() weighs per block of a rank count exactly as a run does
+// (weigh_blocks: Decomposition::cell_work, and fill_distributed for the
+// run's first partition), and with fiber sub-steps the placed fibers' work
+// (add_fiber_work), as a re-partition of a coupled run weighs them
+// (ResinModule::cell_work).
 struct CellLoad {
-  std::vector<std::int64_t> work;
+  std::vector<std::int64_t> fiber_work;
   std::vector<std::int64_t> fluid, wall;
   long nonempty() const {
-    return std::count_if(work.begin(), work.end(), [](std::int64_t w) { return w > 0; });
+    long n = 0;
+    for (std::size_t c = 0; c < fluid.size(); ++c)
+      n += fluid[c] + wall[c] + fiber_work[c] > 0 ? 1 : 0;
+    return n;
   }
 };
 
 template <int D>
 CellLoad cell_load(const Decomposition<D>& dec, const SphParticles<D>& ps) {
   CellLoad load;
-  load.work = dec.cell_work(ps, ps.n_owned);
-  load.fluid.assign(load.work.size(), 0);
-  load.wall.assign(load.work.size(), 0);
+  load.fiber_work.assign(static_cast<std::size_t>(dec.grid().cells()), 0);
+  load.fluid.assign(load.fiber_work.size(), 0);
+  load.wall.assign(load.fiber_work.size(), 0);
   for (std::size_t i = 0; i < ps.n_owned; ++i) {
     const auto c = static_cast<std::size_t>(dec.grid().cell_of(ps.x[i]));
     ++(ps.kind[i] == Kind::Fluid ? load.fluid : load.wall)[c];
@@ -63,7 +66,7 @@ std::int64_t add_fibers(const Case& c, const Decomposition<D>& dec, std::int64_t
   std::vector<int> wall_owner;
   FiberPlacement placement;
   const DemSystem<D> fibers = case_fibers<D>(c, wall_owner, placement);
-  add_fiber_work<D>(dec, fibers.particles, fibers.particles.size(), substeps, load.work);
+  add_fiber_work<D>(dec, fibers.particles, fibers.particles.size(), substeps, load.fiber_work);
   return static_cast<std::int64_t>(fibers.particles.size());
 }
 
@@ -108,17 +111,18 @@ HaloCounts count_halo(const CellGrid<D>& grid, const CellLoad& load, const std::
   return h;
 }
 
-// Imbalance and owned particles per rank, from the owner of every cell.
-void add_balance(const CellLoad& load, const std::vector<int>& owner, PartitionStats& s,
-                 std::vector<std::int64_t>& owned) {
+// Imbalance (of the work per block) and owned particles per rank (of the
+// fine cells' counts).
+void add_balance(const CellLoad& load, const std::vector<std::int64_t>& block_work,
+                 const std::vector<int>& block_owner, const std::vector<int>& owner,
+                 PartitionStats& s, std::vector<std::int64_t>& owned) {
   const auto p = static_cast<std::size_t>(s.ranks);
   std::vector<std::int64_t> work(p, 0);
   owned.assign(p, 0);
-  for (std::size_t c = 0; c < owner.size(); ++c) {
-    const auto r = static_cast<std::size_t>(owner[c]);
-    work[r] += load.work[c];
-    owned[r] += load.fluid[c] + load.wall[c];
-  }
+  for (std::size_t b = 0; b < block_owner.size(); ++b)
+    work[static_cast<std::size_t>(block_owner[b])] += block_work[b];
+  for (std::size_t c = 0; c < owner.size(); ++c)
+    owned[static_cast<std::size_t>(owner[c])] += load.fluid[c] + load.wall[c];
   const std::int64_t total = std::accumulate(work.begin(), work.end(), std::int64_t{0});
   const std::int64_t most = *std::max_element(work.begin(), work.end());
   s.imbalance =
@@ -180,9 +184,18 @@ PartitionStats measure(const Box<D>& domain, const std::array<bool, 3>& periodic
   const Decomposition<D> dec(Comm(MPI_COMM_SELF), domain, periodic, min_cell,
                              max_blocks(ranks, top.min_top_cells, top.top_cells_per_rank));
   const CellGrid<D>& grid = dec.grid();
-  std::vector<std::int64_t> work(static_cast<std::size_t>(dec.blocks()), 0);
-  for (std::size_t c = 0; c < load.work.size(); ++c)
-    work[static_cast<std::size_t>(dec.block_of_cell(static_cast<long>(c)))] += load.work[c];
+  const auto n_blocks = static_cast<std::size_t>(dec.blocks());
+  std::vector<std::int64_t> fluid(n_blocks, 0), walls(n_blocks, 0), fibers(n_blocks, 0);
+  std::vector<std::uint8_t> holds_resin(n_blocks, 0);
+  for (std::size_t c = 0; c < load.fluid.size(); ++c) {
+    const auto b = static_cast<std::size_t>(dec.block_of_cell(static_cast<long>(c)));
+    fluid[b] += load.fluid[c];
+    walls[b] += load.wall[c];
+    fibers[b] += load.fiber_work[c];
+  }
+  for (std::size_t b = 0; b < n_blocks; ++b) holds_resin[b] = fluid[b] > 0 ? 1 : 0;
+  std::vector<std::int64_t> work = weigh_blocks<D>(dec.block_grid(), fluid, walls, holds_resin);
+  for (std::size_t b = 0; b < n_blocks; ++b) work[b] += fibers[b];
   s.blocks = dec.blocks();
   s.block_edge = dec.block_edge();
   s.nonempty_blocks = std::count_if(work.begin(), work.end(), [](std::int64_t w) { return w > 0; });
@@ -196,11 +209,11 @@ PartitionStats measure(const Box<D>& domain, const std::array<bool, 3>& periodic
   s.partition_seconds = seconds_since(t0);
   s.owners = block_owner;
   // The owner of every fine cell, for the halo (this serial tool may hold it).
-  std::vector<int> owner(load.work.size());
+  std::vector<int> owner(load.fluid.size());
   for (std::size_t c = 0; c < owner.size(); ++c)
     owner[c] = block_owner[static_cast<std::size_t>(dec.block_of_cell(static_cast<long>(c)))];
   std::vector<std::int64_t> owned;
-  add_balance(load, owner, s, owned);
+  add_balance(load, work, block_owner, owner, s, owned);
   add_halo<D>(grid, load, owner, owned, s);
   return s;
 }
@@ -278,7 +291,10 @@ PartitionReport partition_report(const Case& c, const std::vector<int>& ranks,
 }
 
 std::string partition_work_text(const PartitionReport& r) {
-  std::string text = fmt::format("{} per resin, {} per wall particle", kFluidWork, kWallWork);
+  std::string text = fmt::format(
+      "{} per resin, {} per wall particle with resin in its top-level cell or the next, {} "
+      "per other wall particle",
+      kFluidWork, kWallWork, kIdleWallWork);
   if (r.fiber_substeps > 0) {
     return text + fmt::format(
                       ", {} x {} sub-steps = {} per fiber particle ({} placed): the weights of "

@@ -1,8 +1,8 @@
 // fill_distributed (distributed_fill.hpp). Three passes over the lattice,
 // each rank over 1/P of it:
 // 1. count: rank r classifies the rows q = r mod P; per top-level cell it
-//    sums the work (for the partition), per row the resin and wall nodes,
-//    and it cuts each row into segments, one per top-level cell;
+//    counts the resin and wall nodes (the partition weighs them), per row
+//    too, and it cuts each row into segments, one per top-level cell;
 // 2. the row counts are summed over ranks and scanned in row order, which
 //    gives every segment the id of its first resin and first wall particle
 //    (ids as on one rank: resin in lattice order, then walls);
@@ -69,7 +69,10 @@ InitialCounts fill_distributed(const Case& c, Decomposition<D>& dec, SphParticle
   const auto ranks = static_cast<std::int64_t>(comm.size());
 
   // 1. Count this rank's rows.
-  std::vector<std::int64_t> work(static_cast<std::size_t>(dec.blocks()), 0);
+  // Resin and wall nodes per top-level cell, weighed after the sum (a wall's
+  // weight depends on the resin near it: Decomposition::weigh).
+  std::vector<std::int64_t> fluid_in(static_cast<std::size_t>(dec.blocks()), 0);
+  std::vector<std::int64_t> walls_in(fluid_in.size(), 0);
   std::vector<std::int64_t> hits(lattice.fill_shapes() + 1, 0);                 // + empty cavity
   std::vector<std::int64_t> row_counts(2 * static_cast<std::size_t>(rows), 0);  // resin, walls
   std::vector<Segment> segments;
@@ -89,11 +92,11 @@ InitialCounts fill_distributed(const Case& c, Decomposition<D>& dec, SphParticle
         ++fluid;
         ++s.fluid;
         ++hits[static_cast<std::size_t>(cls.value)];
-        work[static_cast<std::size_t>(b)] += kFluidWork;
+        ++fluid_in[static_cast<std::size_t>(b)];
       } else {
         ++wall;
         ++s.wall;
-        work[static_cast<std::size_t>(b)] += kWallWork;
+        ++walls_in[static_cast<std::size_t>(b)];
       }
     }
     row_counts[2 * static_cast<std::size_t>(q)] = fluid;
@@ -116,8 +119,9 @@ InitialCounts fill_distributed(const Case& c, Decomposition<D>& dec, SphParticle
   }
 
   // 3. Partition by the work, then send each segment to its owner.
-  dec.partition(work, /*replicated=*/false);
-  work = {};
+  dec.partition(dec.weigh(fluid_in, walls_in), /*replicated=*/false);
+  fluid_in = {};
+  walls_in = {};
   std::vector<int> dest;
   std::vector<std::int64_t> records;
   dest.reserve(segments.size());

@@ -29,6 +29,7 @@ class Comm {
   std::int64_t max(std::int64_t v) const;
   std::int64_t min(std::int64_t v) const;
   bool any(bool v) const;
+  void any(std::span<std::uint8_t> v) const;  // element-wise or of 0/1 flags, in place
   void barrier() const;
   // Collective: how many ranks of this communicator share this rank's node
   // (its memory): MPI_Comm_split_type with MPI_COMM_TYPE_SHARED.

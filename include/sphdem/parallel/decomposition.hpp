@@ -24,16 +24,16 @@
 
 namespace sphdem {
 
-// Work of one particle in the partition weights (integers for METIS): a wall
-// particle costs about 0.3 of a resin particle, since it only gathers its
-// resin neighbors for the extrapolation and has no rate loop.
+// Work of one particle in the partition weights (integers for METIS). A
+// wall particle next to resin costs about 0.3 of a resin particle: it only
+// gathers its resin neighbors for the extrapolation and has no rate loop.
+// A wall particle with no resin near (a mold's empty cavity, most of a 3D
+// mold's walls at the start) has an empty list: only its share of the list
+// build, the kicks and the output, about 0.1 (docs/parallel.md, "Which
+// weights, when").
 inline constexpr std::int64_t kFluidWork = 10;
 inline constexpr std::int64_t kWallWork = 3;
-
-template <int D>
-std::int64_t particle_work(const SphParticles<D>& ps, std::size_t i) {
-  return ps.kind[i] == Kind::Fluid ? kFluidWork : kWallWork;
-}
+inline constexpr std::int64_t kIdleWallWork = 1;
 
 // The most cells of a CellGrid built from a cell size: far from long's
 // range in the index arithmetic, and beyond any rank's memory (the halo
@@ -98,6 +98,17 @@ inline long max_blocks(int ranks, long min_blocks = kMinBlocks, long per_rank = 
 // Throws std::invalid_argument unless every n_k is in [1, kMaxGridCells].
 long block_edge(const std::array<long, 3>& dims, long max_blocks);
 
+// Work per block from the resin and wall particles per block: kFluidWork a
+// resin particle; a wall particle kWallWork when its block or one of the
+// blocks next to it holds resin (`resin_near[b]`: block b holds resin,
+// anywhere in the domain), kIdleWallWork otherwise. Serial: the same
+// weights on one rank and on many.
+template <int D>
+std::vector<std::int64_t> weigh_blocks(const CellGrid<D>& blocks,
+                                       const std::vector<std::int64_t>& fluid,
+                                       const std::vector<std::int64_t>& walls,
+                                       const std::vector<std::uint8_t>& holds_resin);
+
 template <int D>
 class Decomposition {
  public:
@@ -142,8 +153,15 @@ class Decomposition {
   // The owner of every block (the whole map: every rank holds it).
   const std::vector<int>& block_owners() const { return owner_; }
 
-  // Work per block of particles [0, n) of this rank.
+  // Collective. Work per block of particles [0, n) of this rank
+  // (weigh_blocks: whether a wall particle has resin near is decided over
+  // all ranks).
   std::vector<std::int64_t> cell_work(const SphParticles<D>& ps, std::size_t n) const;
+  // Collective. weigh_blocks of this rank's resin and wall particles per
+  // block, the blocks holding resin found over all ranks (one allreduce of
+  // a byte per block).
+  std::vector<std::int64_t> weigh(const std::vector<std::int64_t>& fluid,
+                                  const std::vector<std::int64_t>& walls) const;
 
   // Collective. A new block -> rank map from the work per block: this
   // rank's share (summed over ranks onto rank 0), or with `replicated` the
@@ -153,8 +171,9 @@ class Decomposition {
   // summed work and broadcasts it with the map). One rank: no-op, 0.
   double partition(const std::vector<std::int64_t>& work, bool replicated);
 
-  // Collective: max over ranks of the owned work divided by the mean, minus
-  // 1 (0 on one rank). Integer sums, so every rank count agrees exactly.
+  // Collective: max over ranks of the owned work (cell_work) divided by the
+  // mean, minus 1 (0 on one rank). Integer sums, so every rank count agrees
+  // exactly.
   double imbalance(const SphParticles<D>& ps) const;
   // Collective: the same for any work per block: each rank's total of its
   // own vector (the work of the particles it holds), then one max and one
