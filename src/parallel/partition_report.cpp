@@ -186,15 +186,14 @@ PartitionStats measure(const Box<D>& domain, const std::array<bool, 3>& periodic
   const CellGrid<D>& grid = dec.grid();
   const auto n_blocks = static_cast<std::size_t>(dec.blocks());
   std::vector<std::int64_t> fluid(n_blocks, 0), walls(n_blocks, 0), fibers(n_blocks, 0);
-  std::vector<std::uint8_t> holds_resin(n_blocks, 0);
   for (std::size_t c = 0; c < load.fluid.size(); ++c) {
     const auto b = static_cast<std::size_t>(dec.block_of_cell(static_cast<long>(c)));
     fluid[b] += load.fluid[c];
     walls[b] += load.wall[c];
     fibers[b] += load.fiber_work[c];
   }
-  for (std::size_t b = 0; b < n_blocks; ++b) holds_resin[b] = fluid[b] > 0 ? 1 : 0;
-  std::vector<std::int64_t> work = weigh_blocks<D>(dec.block_grid(), fluid, walls, holds_resin);
+  // The whole case's counts on one rank (MPI_COMM_SELF): the run's weights.
+  std::vector<std::int64_t> work = dec.weigh(fluid, walls);
   for (std::size_t b = 0; b < n_blocks; ++b) work[b] += fibers[b];
   s.blocks = dec.blocks();
   s.block_edge = dec.block_edge();

@@ -69,8 +69,8 @@ InitialCounts fill_distributed(const Case& c, Decomposition<D>& dec, SphParticle
   const auto ranks = static_cast<std::int64_t>(comm.size());
 
   // 1. Count this rank's rows.
-  // Resin and wall nodes per top-level cell, weighed after the sum (a wall's
-  // weight depends on the resin near it: Decomposition::weigh).
+  // Resin and wall nodes per top-level cell, weighed in step 3 (a wall's
+  // weight depends on the resin near it, on any rank: Decomposition::weigh).
   std::vector<std::int64_t> fluid_in(static_cast<std::size_t>(dec.blocks()), 0);
   std::vector<std::int64_t> walls_in(fluid_in.size(), 0);
   std::vector<std::int64_t> hits(lattice.fill_shapes() + 1, 0);                 // + empty cavity

@@ -29,8 +29,8 @@ namespace sphdem {
 // gathers its resin neighbors for the extrapolation and has no rate loop.
 // A wall particle with no resin near (a mold's empty cavity, most of a 3D
 // mold's walls at the start) has an empty list: only its share of the list
-// build, the kicks and the output, about 0.1 (docs/parallel.md, "Which
-// weights, when").
+// build, the kicks and the output, about 0.1 (docs/parallel.md, "Walls away
+// from the resin").
 inline constexpr std::int64_t kFluidWork = 10;
 inline constexpr std::int64_t kWallWork = 3;
 inline constexpr std::int64_t kIdleWallWork = 1;
@@ -100,9 +100,9 @@ long block_edge(const std::array<long, 3>& dims, long max_blocks);
 
 // Work per block from the resin and wall particles per block: kFluidWork a
 // resin particle; a wall particle kWallWork when its block or one of the
-// blocks next to it holds resin (`resin_near[b]`: block b holds resin,
-// anywhere in the domain), kIdleWallWork otherwise. Serial: the same
-// weights on one rank and on many.
+// blocks next to it holds resin (`holds_resin[b]` != 0: block b holds resin
+// on some rank), kIdleWallWork otherwise. Serial: the same weights on one
+// rank and on many.
 template <int D>
 std::vector<std::int64_t> weigh_blocks(const CellGrid<D>& blocks,
                                        const std::vector<std::int64_t>& fluid,
